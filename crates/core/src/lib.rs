@@ -1,0 +1,25 @@
+//! # trigbody-core
+//!
+//! The math core of trigbody: human body models built from planar
+//! cross-section curves described by trigonometric (Fourier) series, after
+//! "Trigonometric curve-based human modeling" (GRAPP 2011). This crate holds
+//! no I/O: formats, pictures and the command line sit on top of it.
+//!
+//! ```
+//! use trigbody_core::{Frame, TrigCurve};
+//! // A circle of radius 0.1 m in the plane z = 0, written at order 3.
+//! let c = TrigCurve::circle(Frame::XY, 0.1, 3);
+//! assert!((c.perimeter() - std::f64::consts::TAU * 0.1).abs() < 1e-12);
+//! assert!((c.area() - std::f64::consts::PI * 0.01).abs() < 1e-15);
+//! ```
+
+pub mod curve;
+pub mod linalg;
+pub mod math;
+pub mod mesh;
+pub mod series;
+
+pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
+pub use math::{Point2, Point3, Real, Vec2, Vec3};
+pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
+pub use series::Series;

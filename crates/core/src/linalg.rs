@@ -1,0 +1,313 @@
+//! Small dense linear algebra: the few factorizations the core needs, on
+//! row-major `Vec<Real>` matrices. Sizes here are tiny (a (2J+1)² Gram matrix,
+//! a K×K skinning system), so plain loops beat a general library.
+
+use crate::math::Real;
+
+/// A lower-triangular Cholesky factor `L` of a symmetric positive definite
+/// matrix `A = L Lᵀ`, stored row-major `n × n`.
+///
+/// The factor of a leading principal block of `A` is the leading block of
+/// `L`: this is what lets one factorization serve every fit order.
+#[derive(Clone, Debug)]
+pub struct Cholesky {
+    pub n: usize,
+    pub l: Vec<Real>,
+}
+
+impl Cholesky {
+    /// Factors the row-major `n × n` symmetric matrix `a` (only its lower
+    /// triangle is read). Returns `None` when a pivot is not positive relative
+    /// to the matrix's scale (`rel_pivot_tol · max diagonal`): the matrix is
+    /// singular or too ill-conditioned for the normal equations.
+    pub fn factor(a: &[Real], n: usize, rel_pivot_tol: Real) -> Option<Cholesky> {
+        let scale = (0..n).map(|i| a[i * n + i]).fold(0.0, Real::max);
+        if !(scale > 0.0) || !scale.is_finite() {
+            return None;
+        }
+        let mut l = vec![0.0; n * n];
+        for j in 0..n {
+            let mut d = a[j * n + j];
+            for k in 0..j {
+                d -= l[j * n + k] * l[j * n + k];
+            }
+            if !(d > rel_pivot_tol * scale) {
+                return None;
+            }
+            let d = d.sqrt();
+            l[j * n + j] = d;
+            for i in j + 1..n {
+                let mut s = a[i * n + j];
+                for k in 0..j {
+                    s -= l[i * n + k] * l[j * n + k];
+                }
+                l[i * n + j] = s / d;
+            }
+        }
+        Some(Cholesky { n, l })
+    }
+
+    /// Solves `L z = r` for the leading `m` unknowns (m ≤ n).
+    pub fn forward(&self, r: &[Real], m: usize) -> Vec<Real> {
+        let n = self.n;
+        let mut z = vec![0.0; m];
+        for i in 0..m {
+            let mut s = r[i];
+            for k in 0..i {
+                s -= self.l[i * n + k] * z[k];
+            }
+            z[i] = s / self.l[i * n + i];
+        }
+        z
+    }
+
+    /// Solves `L_mᵀ x = z` where `L_m` is the leading `m × m` block.
+    pub fn backward(&self, z: &[Real], m: usize) -> Vec<Real> {
+        let n = self.n;
+        let mut x = z[..m].to_vec();
+        for i in (0..m).rev() {
+            let mut s = x[i];
+            for k in i + 1..m {
+                s -= self.l[k * n + i] * x[k];
+            }
+            x[i] = s / self.l[i * n + i];
+        }
+        x
+    }
+
+    /// Solves `A_m x = r` with the leading `m × m` block of `A`.
+    pub fn solve_leading(&self, r: &[Real], m: usize) -> Vec<Real> {
+        self.backward(&self.forward(r, m), m)
+    }
+}
+
+/// Least squares `min ‖B x − y‖` for a row-major `rows × cols` design matrix
+/// by Householder QR (the stable path when the normal equations are too
+/// ill-conditioned). Solves for several right-hand sides at once; returns
+/// `None` when `B` is rank deficient to `rel_tol`.
+pub fn least_squares_qr(
+    b: &[Real],
+    rows: usize,
+    cols: usize,
+    rhs: &[Vec<Real>],
+    rel_tol: Real,
+) -> Option<Vec<Vec<Real>>> {
+    if rows < cols {
+        return None;
+    }
+    let mut a = b.to_vec();
+    let mut ys: Vec<Vec<Real>> = rhs.to_vec();
+    let norm0 = a.iter().fold(0.0 as Real, |m, x| m.max(x.abs()));
+    for k in 0..cols {
+        let alpha_sq: Real = (k..rows).map(|i| a[i * cols + k].powi(2)).sum();
+        let alpha = alpha_sq.sqrt();
+        if !(alpha > rel_tol * norm0 * (rows as Real).sqrt()) {
+            return None;
+        }
+        let akk = a[k * cols + k];
+        let alpha = if akk > 0.0 { -alpha } else { alpha };
+        // v = x - alpha e1, stored in place of column k below the diagonal.
+        let mut v: Vec<Real> = (k..rows).map(|i| a[i * cols + k]).collect();
+        v[0] -= alpha;
+        let vnorm_sq: Real = v.iter().map(|x| x * x).sum();
+        if vnorm_sq == 0.0 {
+            continue;
+        }
+        for j in k..cols {
+            let dot: Real = (k..rows).map(|i| v[i - k] * a[i * cols + j]).sum();
+            let f = 2.0 * dot / vnorm_sq;
+            for i in k..rows {
+                a[i * cols + j] -= f * v[i - k];
+            }
+        }
+        for y in ys.iter_mut() {
+            let dot: Real = (k..rows).map(|i| v[i - k] * y[i]).sum();
+            let f = 2.0 * dot / vnorm_sq;
+            for i in k..rows {
+                y[i] -= f * v[i - k];
+            }
+        }
+    }
+    // Back substitution with the upper triangle R.
+    Some(
+        ys.iter()
+            .map(|y| {
+                let mut x = vec![0.0; cols];
+                for i in (0..cols).rev() {
+                    let mut s = y[i];
+                    for k in i + 1..cols {
+                        s -= a[i * cols + k] * x[k];
+                    }
+                    x[i] = s / a[i * cols + i];
+                }
+                x
+            })
+            .collect(),
+    )
+}
+
+/// An LU factorization with partial pivoting of a square row-major matrix,
+/// `P A = L U` (used for the K×K skinning systems).
+#[derive(Clone, Debug)]
+pub struct Lu {
+    pub n: usize,
+    lu: Vec<Real>,
+    perm: Vec<usize>,
+}
+
+impl Lu {
+    /// Factors `a` (`n × n`, row-major). `None` when a pivot vanishes
+    /// relative to the largest entry (`rel_tol`).
+    pub fn factor(a: &[Real], n: usize, rel_tol: Real) -> Option<Lu> {
+        let mut lu = a.to_vec();
+        let mut perm: Vec<usize> = (0..n).collect();
+        let scale = lu.iter().fold(0.0 as Real, |m, x| m.max(x.abs()));
+        if !(scale > 0.0) || !scale.is_finite() {
+            return None;
+        }
+        for k in 0..n {
+            let p = (k..n)
+                .max_by(|&i, &j| lu[i * n + k].abs().total_cmp(&lu[j * n + k].abs()))
+                .unwrap_or(k);
+            if !(lu[p * n + k].abs() > rel_tol * scale) {
+                return None;
+            }
+            if p != k {
+                for j in 0..n {
+                    lu.swap(k * n + j, p * n + j);
+                }
+                perm.swap(k, p);
+            }
+            for i in k + 1..n {
+                let f = lu[i * n + k] / lu[k * n + k];
+                lu[i * n + k] = f;
+                for j in k + 1..n {
+                    lu[i * n + j] -= f * lu[k * n + j];
+                }
+            }
+        }
+        Some(Lu { n, lu, perm })
+    }
+
+    /// Solves `A x = r`.
+    pub fn solve(&self, r: &[Real]) -> Vec<Real> {
+        let n = self.n;
+        let mut x: Vec<Real> = self.perm.iter().map(|&p| r[p]).collect();
+        for i in 0..n {
+            for k in 0..i {
+                x[i] -= self.lu[i * n + k] * x[k];
+            }
+        }
+        for i in (0..n).rev() {
+            for k in i + 1..n {
+                x[i] -= self.lu[i * n + k] * x[k];
+            }
+            x[i] /= self.lu[i * n + i];
+        }
+        x
+    }
+
+    /// The inverse matrix (row-major), for applying the same solve to many
+    /// coefficient vectors as one small matrix product.
+    pub fn inverse(&self) -> Vec<Real> {
+        let n = self.n;
+        let mut inv = vec![0.0; n * n];
+        for j in 0..n {
+            let mut e = vec![0.0; n];
+            e[j] = 1.0;
+            let col = self.solve(&e);
+            for i in 0..n {
+                inv[i * n + j] = col[i];
+            }
+        }
+        inv
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+
+    fn spd(n: usize) -> Vec<Real> {
+        // A = Mᵀ M + n I with a fixed M.
+        let m: Vec<Real> = (0..n * n).map(|k| ((k * 7 + 3) % 11) as Real / 11.0 - 0.4).collect();
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                a[i * n + j] = (0..n).map(|k| m[k * n + i] * m[k * n + j]).sum::<Real>()
+                    + if i == j { n as Real } else { 0.0 };
+            }
+        }
+        a
+    }
+
+    #[test]
+    fn cholesky_solves_and_nests() {
+        let n = 7;
+        let a = spd(n);
+        let ch = Cholesky::factor(&a, n, 1e-14).unwrap();
+        let r: Vec<Real> = (0..n).map(|i| i as Real - 2.0).collect();
+        for m in 1..=n {
+            let x = ch.solve_leading(&r, m);
+            for i in 0..m {
+                let s: Real = (0..m).map(|j| a[i * n + j] * x[j]).sum();
+                assert_near!(s, r[i], 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn cholesky_rejects_singular() {
+        let a = vec![1.0, 1.0, 1.0, 1.0];
+        assert!(Cholesky::factor(&a, 2, 1e-12).is_none());
+    }
+
+    #[test]
+    fn qr_matches_exact_fit() {
+        // y = 1 + 2t - t² sampled exactly: least squares recovers it.
+        let rows = 9;
+        let b: Vec<Real> = (0..rows)
+            .flat_map(|i| {
+                let t = i as Real / 4.0;
+                [1.0, t, t * t]
+            })
+            .collect();
+        let y: Vec<Real> = (0..rows)
+            .map(|i| {
+                let t = i as Real / 4.0;
+                1.0 + 2.0 * t - t * t
+            })
+            .collect();
+        let x = least_squares_qr(&b, rows, 3, &[y], 1e-13).unwrap();
+        assert_near!(x[0][0], 1.0, 1e-13);
+        assert_near!(x[0][1], 2.0, 1e-13);
+        assert_near!(x[0][2], -1.0, 1e-13);
+    }
+
+    #[test]
+    fn lu_solves_vandermonde() {
+        let n = 5;
+        let a: Vec<Real> = (0..n)
+            .flat_map(|k| {
+                let u = k as Real / (n - 1) as Real;
+                (0..n).map(move |m| u.powi(m as i32))
+            })
+            .collect();
+        let lu = Lu::factor(&a, n, 1e-14).unwrap();
+        let r = vec![1.0, -2.0, 0.5, 3.0, 0.0];
+        let x = lu.solve(&r);
+        for i in 0..n {
+            let s: Real = (0..n).map(|j| a[i * n + j] * x[j]).sum();
+            assert_near!(s, r[i], 1e-12);
+        }
+        let inv = lu.inverse();
+        for i in 0..n {
+            for j in 0..n {
+                let s: Real = (0..n).map(|k| a[i * n + k] * inv[k * n + j]).sum();
+                assert_near!(s, if i == j { 1.0 } else { 0.0 }, 1e-11);
+            }
+        }
+        assert!(Lu::factor(&[1.0, 2.0, 2.0, 4.0], 2, 1e-12).is_none());
+    }
+}

@@ -1,0 +1,4 @@
+//! # trigbody-io
+//!
+//! File formats for trigbody: everything that turns bytes into the core's
+//! types and back. The core never reads or writes files itself.

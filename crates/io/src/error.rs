@@ -86,7 +86,7 @@ pub enum FormatErrorKind {
         message: String,
     },
     /// A face refers to a vertex (or normal) that does not exist.
-    #[error("{what} index {index} is out of range: there are {count} {what}s (OBJ indices are 1-based; negative ones count back from the last)")]
+    #[error("{what} index {index} is out of range: {count} defined{}", if *.index <= 0 { " (OBJ indices start at 1; negative ones count back from the last)" } else { "" })]
     IndexOutOfRange {
         /// "vertex", "normal" or "texture coordinate".
         what: &'static str,

@@ -651,8 +651,8 @@ struct Tokens<'a> {
 }
 
 impl<'a> Tokens<'a> {
-    /// The next token and its line, `Ok(None)` at the end.
-    fn next(&mut self) -> Result<Option<(&'a str, usize)>> {
+    /// Skips whitespace so that `line` is the line of the next token.
+    fn skip_space(&mut self) {
         while let Some(&b) = self.data.get(self.pos) {
             if b == b'\n' {
                 self.line += 1;
@@ -661,6 +661,11 @@ impl<'a> Tokens<'a> {
             }
             self.pos += 1;
         }
+    }
+
+    /// The next token and its line, `Ok(None)` at the end.
+    fn next(&mut self) -> Result<Option<(&'a str, usize)>> {
+        self.skip_space();
         let start = self.pos;
         while self
             .data
@@ -698,6 +703,7 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
             Role::Other => {}
         }
         for index in 0..element.count {
+            tokens.skip_space();
             let start_line = tokens.line;
             let at = |kind: FormatErrorKind, line: usize| -> IoError {
                 FormatError::new(

@@ -7,8 +7,7 @@ use trigbody_core::{Mesh, Vec3};
 use trigbody_io::{read_geometry, read_mesh, read_point_cloud, Geometry, ReadOptions};
 
 fn mesh(name: &str) -> Mesh {
-    read_mesh(fixture(name), &ReadOptions::default())
-        .unwrap_or_else(|e| panic!("{name}: {e}"))
+    read_mesh(fixture(name), &ReadOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"))
 }
 
 fn assert_unit_cube(name: &str, m: &Mesh) {
@@ -69,7 +68,10 @@ fn obj_from_blender_with_uvs_normals_quads_groups_and_materials() {
 fn obj_with_relative_indices_and_crlf() {
     let m = mesh("tetra_relative.obj");
     assert_eq!(m.positions.len(), 4);
-    assert_eq!(m.triangles, vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]);
+    assert_eq!(
+        m.triangles,
+        vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    );
     assert!(is_closed_and_oriented(&m));
     assert_close!(m.signed_volume(), 1.0 / 6.0, 1e-15);
     // Not every corner names a normal: no normals.
@@ -94,7 +96,10 @@ fn csv_with_header_maps_columns_by_name() {
     let p = read_point_cloud(fixture("points_header.csv"), &ReadOptions::default()).unwrap();
     assert_eq!(p.positions.len(), 4);
     assert_eq!(p.positions[2], Vec3::new(1.0, 1.0, 0.0));
-    assert_eq!(p.normals.as_ref().unwrap()[1], Vec3::new(0.577, -0.577, -0.577));
+    assert_eq!(
+        p.normals.as_ref().unwrap()[1],
+        Vec3::new(0.577, -0.577, -0.577)
+    );
 }
 
 #[test]
@@ -123,6 +128,9 @@ fn extension_is_case_insensitive() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("CUBE.PLY");
     std::fs::copy(fixture("cube_ascii.ply"), &path).unwrap();
-    assert_unit_cube("CUBE.PLY", &read_mesh(&path, &ReadOptions::default()).unwrap());
+    assert_unit_cube(
+        "CUBE.PLY",
+        &read_mesh(&path, &ReadOptions::default()).unwrap(),
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -13,8 +13,15 @@ fn check_body(mesh: &Mesh, name: &str, height: f64, triangles: usize) {
     assert!(is_closed_and_oriented(mesh), "{name} is not closed");
     let b = mesh.bounds().unwrap();
     let h = b.size().y;
-    assert!((h - height).abs() < 0.01, "{name}: height {h}, expected {height}");
-    assert!((b.min.y + 0.82).abs() < 0.03, "{name}: feet at y = {}", b.min.y);
+    assert!(
+        (h - height).abs() < 0.01,
+        "{name}: height {h}, expected {height}"
+    );
+    assert!(
+        (b.min.y + 0.82).abs() < 0.03,
+        "{name}: feet at y = {}",
+        b.min.y
+    );
     // Outward orientation: positive volume of a plausible body (40–120 L).
     let v = mesh.signed_volume();
     assert!((0.04..0.12).contains(&v), "{name}: volume {v} m³");
@@ -48,7 +55,11 @@ fn simulated_scan() {
         .count();
     assert!(unit > 199_000, "{unit} unit normals");
     let b = p.bounds().unwrap();
-    assert!((b.size().y - 1.73).abs() < 0.03, "scan height {}", b.size().y);
+    assert!(
+        (b.size().y - 1.73).abs() < 0.03,
+        "scan height {}",
+        b.size().y
+    );
     assert!((b.min.y + 0.82).abs() < 0.05, "scan feet at {}", b.min.y);
 }
 

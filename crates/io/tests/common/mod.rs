@@ -22,7 +22,10 @@ pub fn shared_data() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
-        eprintln!("note: {} not found; skipping shared-data checks", dir.display());
+        eprintln!(
+            "note: {} not found; skipping shared-data checks",
+            dir.display()
+        );
         None
     }
 }

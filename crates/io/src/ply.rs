@@ -690,6 +690,9 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
         line: header.lines + 1,
     };
     for element in &header.elements {
+        if element.properties.is_empty() {
+            continue; // nothing stored, however many are declared
+        }
         // Each value takes at least two bytes (a digit and a separator).
         let cap = usize::try_from(element.count)
             .unwrap_or(usize::MAX)

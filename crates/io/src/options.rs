@@ -222,3 +222,65 @@ impl Geometry {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ALL: [UpAxis; 7] = [
+        UpAxis::Keep,
+        UpAxis::PlusX,
+        UpAxis::MinusX,
+        UpAxis::PlusY,
+        UpAxis::MinusY,
+        UpAxis::PlusZ,
+        UpAxis::MinusZ,
+    ];
+
+    fn axis(a: UpAxis) -> Vec3 {
+        match a {
+            UpAxis::Keep | UpAxis::PlusY => Vec3::Y,
+            UpAxis::MinusY => -Vec3::Y,
+            UpAxis::PlusX => Vec3::X,
+            UpAxis::MinusX => -Vec3::X,
+            UpAxis::PlusZ => Vec3::Z,
+            UpAxis::MinusZ => -Vec3::Z,
+        }
+    }
+
+    #[test]
+    fn every_up_axis_becomes_plus_y_by_a_proper_rotation() {
+        for a in ALL {
+            assert_eq!(a.to_y_up(axis(a)), Vec3::Y, "{a}");
+            // Columns of the map: a rotation keeps the cross product (det +1).
+            let (x, y, z) = (a.to_y_up(Vec3::X), a.to_y_up(Vec3::Y), a.to_y_up(Vec3::Z));
+            assert_eq!(x.cross(y), z, "{a} is not a proper rotation");
+            assert_eq!(x.norm() * y.norm() * z.norm(), 1.0);
+        }
+    }
+
+    #[test]
+    fn up_axis_parses_what_it_displays() {
+        for a in ALL {
+            assert_eq!(a.to_string().parse::<UpAxis>(), Ok(a));
+        }
+        assert_eq!("Z".parse::<UpAxis>(), Ok(UpAxis::PlusZ));
+        assert_eq!(" -y ".parse::<UpAxis>(), Ok(UpAxis::MinusY));
+        assert!("up".parse::<UpAxis>().is_err());
+    }
+
+    #[test]
+    fn options_scale_positions_and_rotate_normals() {
+        let o = ReadOptions {
+            scale: 0.001,
+            up_axis: UpAxis::PlusZ,
+        };
+        let mut p = vec![Vec3::new(1000.0, 2000.0, 3000.0)];
+        let mut n = vec![Vec3::Z];
+        o.apply(&mut p, Some(&mut n));
+        assert_eq!(p[0], Vec3::new(1.0, 3.0, -2.0));
+        assert_eq!(n[0], Vec3::Y);
+        assert_eq!(ReadOptions::default().scale, 1.0);
+        assert_eq!(ReadOptions::default().up_axis, UpAxis::Keep);
+    }
+}

@@ -134,3 +134,22 @@ fn extension_is_case_insensitive() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn xyz_rgb_columns_are_not_taken_for_normals() {
+    let g = trigbody_io::read_bytes(
+        b"0.1 0.2 0.3 255 128 0\n0.4 0.5 0.6 10 20 30\n",
+        trigbody_io::Format::Xyz,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(g.positions().len(), 2);
+    assert!(g.normals().is_none());
+    let g = trigbody_io::read_bytes(
+        b"0.1 0.2 0.3 0 0 1\n",
+        trigbody_io::Format::Xyz,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(g.normals(), Some(&[Vec3::Z][..]));
+}

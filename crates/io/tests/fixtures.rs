@@ -153,3 +153,36 @@ fn xyz_rgb_columns_are_not_taken_for_normals() {
     .unwrap();
     assert_eq!(g.normals(), Some(&[Vec3::Z][..]));
 }
+
+#[test]
+fn obj_continuation_lines_and_backslash_in_comments() {
+    let text = "# saved to C:\\models\\\nv 0 0 0\nv 1 0 \\\n 0\nv 0 1 0\nf 1 \\\n2 3\n";
+    let g = trigbody_io::read_bytes(
+        text.as_bytes(),
+        trigbody_io::Format::Obj,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(g.positions().len(), 3);
+    assert_eq!(g.positions()[1], Vec3::new(1.0, 0.0, 0.0));
+    assert_eq!(g.triangles(), &[[0, 1, 2]]);
+}
+
+#[test]
+fn binary_stl_with_a_zero_count_from_a_streaming_writer() {
+    let mut d = vec![b' '; 80];
+    d.extend_from_slice(&0u32.to_le_bytes());
+    for t in [
+        [0f32, 0., 0., 1., 0., 0., 0., 1., 0.],
+        [0., 0., 0., 0., 1., 0., 0., 0., 1.],
+    ] {
+        d.extend_from_slice(&[0; 12]);
+        for c in t {
+            d.extend_from_slice(&c.to_le_bytes());
+        }
+        d.extend_from_slice(&[0; 2]);
+    }
+    let g = trigbody_io::read_bytes(&d, trigbody_io::Format::Stl, &ReadOptions::default()).unwrap();
+    assert_eq!(g.triangles().len(), 2);
+    assert_eq!(g.positions().len(), 4);
+}

@@ -342,8 +342,27 @@ fn assign_slots(elements: &mut [Element]) -> Result<bool> {
                     )
                 });
                 // Any single integer list is taken as the indices.
-                if let Some(i) = named.or((lists.len() == 1).then(|| lists[0])) {
-                    element.properties[i].slot = Slot::FaceIndices;
+                match named.or((lists.len() == 1).then(|| lists[0])) {
+                    Some(i) => element.properties[i].slot = Slot::FaceIndices,
+                    None if element.count > 0 => {
+                        return Err(FormatError::new(
+                            Format::Ply,
+                            Location::File,
+                            FormatErrorKind::BadHeader {
+                                message: format!(
+                                    "the face element has no integer list `vertex_indices` (its properties: {})",
+                                    element
+                                        .properties
+                                        .iter()
+                                        .map(|p| p.name.as_str())
+                                        .collect::<Vec<_>>()
+                                        .join(", ")
+                                ),
+                            },
+                        )
+                        .into())
+                    }
+                    None => {}
                 }
             }
             Role::Other => {}
@@ -357,6 +376,8 @@ fn assign_slots(elements: &mut [Element]) -> Result<bool> {
 struct Sink {
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
+    /// Whether the vertex element has `nx ny nz`.
+    with_normals: bool,
     triangles: Vec<[u32; 3]>,
     vertex_count: u64,
     polygon: Vec<u32>,
@@ -406,6 +427,7 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
             .iter()
             .find(|e| e.role == Role::Vertex)
             .map_or(0, |e| e.count),
+        with_normals,
         ..Sink::default()
     };
     let body = data.get(header.body..).unwrap_or(&[]);
@@ -414,7 +436,7 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
         Encoding::LittleEndian => read_binary::<false>(&header, data, &mut sink)?,
         Encoding::BigEndian => read_binary::<true>(&header, data, &mut sink)?,
     }
-    let normals = with_normals.then_some(sink.normals);
+    let normals = sink.with_normals.then_some(sink.normals);
     Geometry::build(
         Format::Ply,
         sink.positions,
@@ -550,7 +572,7 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
         match element.role {
             Role::Vertex => {
                 sink.positions.reserve_exact(count);
-                if sink.normals.capacity() == 0 {
+                if sink.with_normals {
                     sink.normals.reserve_exact(count);
                 }
             }
@@ -636,7 +658,9 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
             }
             if element.role == Role::Vertex {
                 sink.positions.push(Vec3::from(p3));
-                sink.normals.push(Vec3::from(n3));
+                if sink.with_normals {
+                    sink.normals.push(Vec3::from(n3));
+                }
             }
         }
     }
@@ -700,7 +724,9 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
         match element.role {
             Role::Vertex => {
                 sink.positions.reserve_exact(cap);
-                sink.normals.reserve_exact(cap);
+                if sink.with_normals {
+                    sink.normals.reserve_exact(cap);
+                }
             }
             Role::Face => sink.triangles.reserve(cap),
             Role::Other => {}
@@ -787,7 +813,9 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
             }
             if element.role == Role::Vertex {
                 sink.positions.push(Vec3::from(p3));
-                sink.normals.push(Vec3::from(n3));
+                if sink.with_normals {
+                    sink.normals.push(Vec3::from(n3));
+                }
             }
         }
     }

@@ -418,3 +418,13 @@ fn error_messages_read_well() {
     );
     let _ = ply::read(&b""[..], &ReadOptions::default()).unwrap_err();
 }
+
+#[test]
+fn ply_faces_without_an_index_list_are_an_error_not_points() {
+    let d = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar float weights\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0.5 0.5 0.5\n";
+    let e = read(d, Format::Ply);
+    assert!(
+        matches!(kind_at(&e).0, FormatErrorKind::BadHeader { message } if message.contains("weights")),
+        "{e}"
+    );
+}

@@ -32,6 +32,8 @@
 //! assert_eq!(mesh.positions[2].to_array(), [1.0, 1.0, 0.0]);
 //! ```
 
+#![warn(missing_docs)]
+
 mod error;
 mod format;
 pub mod obj;

@@ -54,6 +54,7 @@
 
 use crate::colormap::{Colormap, Rgb};
 use crate::text::{draw_labels, text_size, Anchor, Label};
+use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
 use thiserror::Error;
@@ -653,15 +654,60 @@ fn last_sample_at_or_before(v: i64) -> i64 {
     (v - SUBPIXEL / 2).div_euclid(SUBPIXEL)
 }
 
-/// Rasterizes every triangle into the z-buffer (step 3 of the module docs).
+/// Rasterizes every triangle into the z-buffer (step 3 of the module
+/// docs), in horizontal bands on the rayon threads. Each band owns its
+/// samples and takes the triangles in mesh order, so the result is the same
+/// for any number of threads or bands.
 fn rasterize(mesh: &Mesh, p: &Projected, target: &mut Samples) {
-    let (w, h) = (target.width as i64, target.height as i64);
+    let width = target.width;
+    let bands = (2 * rayon::current_num_threads()).clamp(1, target.height.div_ceil(16).max(1));
+    let rows = target.height.div_ceil(bands).max(1);
+    target
+        .depth
+        .par_chunks_mut(rows * width)
+        .zip(target.triangle.par_chunks_mut(rows * width))
+        .enumerate()
+        .for_each(|(b, (depth, triangle))| {
+            let band = Band {
+                width,
+                first_row: b * rows,
+                rows: depth.len() / width,
+                depth,
+                triangle,
+            };
+            rasterize_band(mesh, p, band);
+        });
+}
+
+/// The rows `first_row .. first_row + rows` of the sample grid.
+struct Band<'a> {
+    width: usize,
+    first_row: usize,
+    rows: usize,
+    depth: &'a mut [f32],
+    triangle: &'a mut [u32],
+}
+
+/// Rasterizes every triangle's part inside `band`.
+fn rasterize_band(mesh: &Mesh, p: &Projected, band: Band<'_>) {
+    let w = band.width as i64;
+    let (band_top, band_bottom) = (
+        band.first_row as i64,
+        (band.first_row + band.rows) as i64 - 1,
+    );
+    let top_centre = band_top * SUBPIXEL + SUBPIXEL / 2;
+    let bottom_centre = band_bottom * SUBPIXEL + SUBPIXEL / 2;
     for (t, tri) in mesh.triangles.iter().enumerate() {
         let [i0, i1, i2] = tri.map(|i| i as usize);
         let (v0, v1, v2) = (p.raster[i0], p.raster[i1], p.raster[i2]);
-        let (x0, y0) = (v0.fx as i64, v0.fy as i64);
-        let (mut x1, mut y1) = (v1.fx as i64, v1.fy as i64);
-        let (mut x2, mut y2) = (v2.fx as i64, v2.fy as i64);
+        // Cheap rejection of triangles outside the band.
+        let (y0, y1, y2) = (v0.fy as i64, v1.fy as i64, v2.fy as i64);
+        if y0.max(y1).max(y2) < top_centre || y0.min(y1).min(y2) > bottom_centre {
+            continue;
+        }
+        let x0 = v0.fx as i64;
+        let (mut x1, mut y1) = (v1.fx as i64, y1);
+        let (mut x2, mut y2) = (v2.fx as i64, y2);
         let (mut z1, mut z2) = (v1.depth, v2.depth);
         let mut area = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0);
         if area == 0 {
@@ -675,8 +721,8 @@ fn rasterize(mesh: &Mesh, p: &Projected, target: &mut Samples) {
         }
         let min_x = first_sample_at_or_after(x0.min(x1).min(x2)).max(0);
         let max_x = last_sample_at_or_before(x0.max(x1).max(x2)).min(w - 1);
-        let min_y = first_sample_at_or_after(y0.min(y1).min(y2)).max(0);
-        let max_y = last_sample_at_or_before(y0.max(y1).max(y2)).min(h - 1);
+        let min_y = first_sample_at_or_after(y0.min(y1).min(y2)).max(band_top);
+        let max_y = last_sample_at_or_before(y0.max(y1).max(y2)).min(band_bottom);
         if min_x > max_x || min_y > max_y {
             continue;
         }
@@ -701,7 +747,7 @@ fn rasterize(mesh: &Mesh, p: &Projected, target: &mut Samples) {
         let t = t as u32;
         let (mut r0, mut r1, mut r2) = (e0, e1, e2);
         for y in min_y..=max_y {
-            let row = y as usize * target.width;
+            let row = (y as usize - band.first_row) * band.width;
             let (mut w0, mut w1, mut w2) = (r0, r1, r2);
             for x in min_x..=max_x {
                 if (w0 | w1 | w2) >= 0 {
@@ -709,9 +755,9 @@ fn rasterize(mesh: &Mesh, p: &Projected, target: &mut Samples) {
                     // they do not matter for depth.
                     let z = z0 + w1 as f32 * dz1 + w2 as f32 * dz2;
                     let i = row + x as usize;
-                    if z < target.depth[i] {
-                        target.depth[i] = z;
-                        target.triangle[i] = t;
+                    if z < band.depth[i] {
+                        band.depth[i] = z;
+                        band.triangle[i] = t;
                     }
                 }
                 w0 += e0x;
@@ -752,6 +798,9 @@ struct Shader<'a> {
     no_value: [f32; 3],
     /// [`RenderOptions::value_shading`] when painting values, else 1.
     shading: f32,
+    /// `n·H` below which the highlight `(n·H)^shininess` is under 10⁻⁴
+    /// (skipped: it would not change an 8-bit colour).
+    highlight_cutoff: f32,
 }
 
 #[inline]
@@ -845,7 +894,7 @@ impl Shader<'_> {
         let k = 1.0 - self.shading + self.shading * (self.ambient + self.diffuse * lambert);
         let spec = if self.specular > 0.0 {
             let nh = dot3(n, self.half);
-            if nh > 0.0 {
+            if nh > self.highlight_cutoff {
                 self.shading * self.specular * nh.powf(self.shininess)
             } else {
                 0.0
@@ -962,6 +1011,7 @@ fn render(
         },
         paint,
         no_value: [srgb_to_linear(NO_VALUE_GREY); 3],
+        highlight_cutoff: (1e-4f64).powf(1.0 / options.shininess) as f32,
     };
     let encoder = SrgbEncoder::new();
     let background = options.background.map(srgb_to_linear);
@@ -993,36 +1043,39 @@ fn render(
             samples.clear();
         }
         let (cx, cy) = (0.5 * (w * m) as Real, 0.5 * (h * m) as Real);
-        let n = mesh.positions.len();
-        let mut proj = Projected {
-            raster: Vec::with_capacity(n),
-            shade: Vec::with_capacity(n),
-        };
         // Framing keeps every corner inside the panel; the clamp only
         // guards the integer arithmetic.
         let limit = 4.0 * (w.max(h) * m) as Real;
-        for (p, nv) in mesh.positions.iter().zip(&vertex_normals) {
-            let x = cx + k * (p.dot(cam.right) - center.0);
-            let y = cy - k * (p.dot(cam.up) - center.1);
-            let depth = (-k * p.dot(cam.toward)) as f32;
-            let fixed = |v: Real| (v.clamp(-limit, limit) * SUBPIXEL as Real).round() as i32;
-            proj.raster.push(RasterVertex {
-                fx: fixed(x),
-                fy: fixed(y),
-                depth,
-            });
-            let nc = [nv.dot(cam.right), nv.dot(cam.up), nv.dot(cam.toward)];
-            proj.shade.push(ShadeVertex {
-                x: x as f32,
-                y: y as f32,
-                depth,
-                normal: if nc.iter().all(|c| c.is_finite()) {
-                    nc.map(|c| c as f32)
-                } else {
-                    [0.0; 3]
-                },
-            });
-        }
+        let (raster, shade): (Vec<RasterVertex>, Vec<ShadeVertex>) = mesh
+            .positions
+            .par_iter()
+            .zip(&vertex_normals)
+            .map(|(p, nv)| {
+                let x = cx + k * (p.dot(cam.right) - center.0);
+                let y = cy - k * (p.dot(cam.up) - center.1);
+                let depth = (-k * p.dot(cam.toward)) as f32;
+                let fixed = |v: Real| (v.clamp(-limit, limit) * SUBPIXEL as Real).round() as i32;
+                let nc = [nv.dot(cam.right), nv.dot(cam.up), nv.dot(cam.toward)];
+                (
+                    RasterVertex {
+                        fx: fixed(x),
+                        fy: fixed(y),
+                        depth,
+                    },
+                    ShadeVertex {
+                        x: x as f32,
+                        y: y as f32,
+                        depth,
+                        normal: if nc.iter().all(|c| c.is_finite()) {
+                            nc.map(|c| c as f32)
+                        } else {
+                            [0.0; 3]
+                        },
+                    },
+                )
+            })
+            .unzip();
+        let proj = Projected { raster, shade };
         rasterize(mesh, &proj, &mut samples);
         resolve(
             mesh,
@@ -1077,7 +1130,8 @@ fn render(
     Ok(Render { image, frames })
 }
 
-/// Averages each pixel's samples into the panel at column `left` (step 5).
+/// Averages each pixel's samples into the panel at column `left` (step 5),
+/// rows in parallel (each pixel depends on its own samples only).
 fn resolve(
     mesh: &Mesh,
     proj: &Projected,
@@ -1089,74 +1143,91 @@ fn resolve(
     image: &mut RgbImage,
     left: usize,
 ) {
-    let (w, h) = (samples.width / m, samples.height / m);
-    let inv = 1.0 / (m * m) as f32;
-    // Depth spread (sample units) of one surface across a pixel: a slope
+    let w = samples.width / m;
+    let stride = 3 * image.width as usize;
+    image
+        .pixels
+        .par_chunks_mut(stride)
+        .enumerate()
+        .for_each(|(y, row)| {
+            let panel = &mut row[3 * left..3 * (left + w)];
+            for (x, out) in panel.chunks_exact_mut(3).enumerate() {
+                if let Some(c) = resolve_pixel(mesh, proj, samples, shader, m, background, x, y) {
+                    out[0] = encoder.encode(c[0]);
+                    out[1] = encoder.encode(c[1]);
+                    out[2] = encoder.encode(c[2]);
+                }
+            }
+        });
+}
+
+/// The linear-light colour of pixel `(x, y)` of a panel, or `None` where
+/// no sample hit the mesh (the background is already there).
+#[inline]
+fn resolve_pixel(
+    mesh: &Mesh,
+    proj: &Projected,
+    samples: &Samples,
+    shader: &Shader<'_>,
+    m: usize,
+    background: [f32; 3],
+    x: usize,
+    y: usize,
+) -> Option<[f32; 3]> {
+    let sample = |i: usize, j: usize| (y * m + j) * samples.width + x * m + i;
+    let first = samples.triangle[sample(0, 0)];
+    // A pixel covered by one continuous surface (no background sample,
+    // depths within `continuity`) is shaded once at its centre:
+    // antialiasing is only needed at silhouettes and occlusion edges,
+    // where every sample is shaded. Depth spread in sample units: a slope
     // of up to 2 (about 63° from the viewer) still counts as continuous.
     let continuity = 2.0 * m as f32;
-    let stride = image.width as usize;
-    let mut ids = vec![NO_TRIANGLE; m * m];
-    for y in 0..h {
-        for x in 0..w {
-            for j in 0..m {
-                let row = (y * m + j) * samples.width + x * m;
-                ids[j * m..(j + 1) * m].copy_from_slice(&samples.triangle[row..row + m]);
-            }
-            let first = ids[0];
-            if ids.iter().all(|&t| t == NO_TRIANGLE) {
-                continue; // background, already filled
-            }
-            // A pixel covered by one continuous surface (no background
-            // sample, depths within `continuity`) is shaded once at its
-            // centre: antialiasing is only needed at silhouettes and
-            // occlusion edges, where every sample is shaded.
-            let continuous = first != NO_TRIANGLE && {
-                let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
-                for j in 0..m {
-                    let row = (y * m + j) * samples.width + x * m;
-                    for &d in &samples.depth[row..row + m] {
-                        lo = lo.min(d);
-                        hi = hi.max(d);
-                    }
-                }
-                ids.iter().all(|&t| t != NO_TRIANGLE) && hi - lo <= continuity
-            };
-            let color = if continuous {
-                let c = (m as f32) * 0.5;
+    let (mut any, mut all) = (false, true);
+    let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
+    for j in 0..m {
+        for i in 0..m {
+            let s = sample(i, j);
+            let hit = samples.triangle[s] != NO_TRIANGLE;
+            any |= hit;
+            all &= hit;
+            let d = samples.depth[s];
+            lo = lo.min(d);
+            hi = hi.max(d);
+        }
+    }
+    if !any {
+        return None;
+    }
+    if all && hi - lo <= continuity {
+        let c = (m as f32) * 0.5;
+        return Some(shader.shade(
+            mesh,
+            proj,
+            first as usize,
+            (x * m) as f32 + c,
+            (y * m) as f32 + c,
+        ));
+    }
+    let mut sum = [0.0f32; 3];
+    for j in 0..m {
+        for i in 0..m {
+            let t = samples.triangle[sample(i, j)];
+            let c = if t == NO_TRIANGLE {
+                background
+            } else {
                 shader.shade(
                     mesh,
                     proj,
-                    first as usize,
-                    (x * m) as f32 + c,
-                    (y * m) as f32 + c,
+                    t as usize,
+                    (x * m + i) as f32 + 0.5,
+                    (y * m + j) as f32 + 0.5,
                 )
-            } else {
-                let mut sum = [0.0f32; 3];
-                for j in 0..m {
-                    for i in 0..m {
-                        let t = ids[j * m + i];
-                        let c = if t == NO_TRIANGLE {
-                            background
-                        } else {
-                            shader.shade(
-                                mesh,
-                                proj,
-                                t as usize,
-                                (x * m + i) as f32 + 0.5,
-                                (y * m + j) as f32 + 0.5,
-                            )
-                        };
-                        sum = [sum[0] + c[0], sum[1] + c[1], sum[2] + c[2]];
-                    }
-                }
-                sum.map(|s| s * inv)
             };
-            let o = 3 * (y * stride + left + x);
-            image.pixels[o] = encoder.encode(color[0]);
-            image.pixels[o + 1] = encoder.encode(color[1]);
-            image.pixels[o + 2] = encoder.encode(color[2]);
+            sum = [sum[0] + c[0], sum[1] + c[1], sum[2] + c[2]];
         }
     }
+    let inv = 1.0 / (m * m) as f32;
+    Some(sum.map(|s| s * inv))
 }
 
 /// Width of the colour-bar strip for panels `height` pixels tall.

@@ -5,6 +5,7 @@
 //! file, line or value), 1 internal failure.
 
 mod cmd_fit;
+mod cmd_render;
 mod examples;
 mod exit;
 
@@ -26,6 +27,8 @@ enum Command {
     /// Fit the bundled real cross-sections (torso, waist, neck, thigh, calf,
     /// upper arm) and compare each with the ellipse baseline.
     Examples(examples::ExamplesArgs),
+    /// Draw a mesh shaded from several views side by side (PNG).
+    Render(cmd_render::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +43,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Fit(args) => cmd_fit::run(args),
         Command::Examples(args) => examples::run(args),
+        Command::Render(args) => cmd_render::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

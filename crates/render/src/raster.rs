@@ -291,7 +291,7 @@ pub enum RenderError {
     #[error("{values} values for {vertices} vertices: give one value per vertex")]
     ValueCount { values: usize, vertices: usize },
     /// A colour range that is empty or not finite.
-    #[error("value range [{min}, {max}] is unusable: both ends must be finite with min < max")]
+    #[error("value range [{min}, {max}] is unusable: both ends and their difference must be finite, with min < max")]
     BadRange { min: Real, max: Real },
     /// Text drawing failed (a defect of the bundled font or backend).
     #[error("drawing text failed: {0}")]
@@ -935,7 +935,7 @@ fn render(
                 });
             }
             let (min, max) = v.range;
-            if !(min.is_finite() && max.is_finite() && min < max) {
+            if !(min.is_finite() && max.is_finite() && min < max && (max - min).is_finite()) {
                 return Err(RenderError::BadRange { min, max });
             }
             let table = (0..256)

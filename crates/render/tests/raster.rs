@@ -205,6 +205,97 @@ fn rendering_is_deterministic_and_translation_invariant() {
 }
 
 #[test]
+fn picture_does_not_depend_on_the_thread_count() {
+    let mesh = torus(1.0, 0.4, 200, 100);
+    let options = RenderOptions {
+        width: 256,
+        height: 192,
+        views: vec![
+            View::front(),
+            View {
+                elevation_deg: 60.0,
+                ..View::side()
+            },
+        ],
+        ..RenderOptions::default()
+    };
+    let with_threads = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap();
+        pool.install(|| render_mesh(&mesh, &options).unwrap().image)
+    };
+    let one = with_threads(1);
+    assert_eq!(one, with_threads(3));
+    assert_eq!(one, with_threads(8));
+}
+
+#[test]
+fn supersampled_edges_blend_and_keep_the_coverage() {
+    // With 2×2 samples an edge pixel mixes surface and background; the
+    // summed coverage (1 − distance to the background colour, by channel)
+    // still matches the rectangle.
+    let (r, h) = (0.3, 1.2);
+    let mesh = capped_cylinder(r, h, 256);
+    let options = RenderOptions {
+        supersample: 2,
+        background: [0, 0, 0],
+        ambient: 1.0,
+        diffuse: 0.0,
+        specular: 0.0,
+        color: [255, 255, 255],
+        ..measuring(301, View::front())
+    };
+    let render = render_mesh(&mesh, &options).unwrap();
+    let frame = &render.frames[0];
+    let mut coverage = 0.0;
+    let mut partial = 0;
+    for y in 0..301 {
+        for x in 0..301 {
+            // A white surface over black: the grey level's linear value is
+            // the covered fraction of the pixel.
+            let v = render.image.pixel(x, y).unwrap()[0];
+            let s = v as f64 / 255.0;
+            let lin = if s <= 0.04045 {
+                s / 12.92
+            } else {
+                ((s + 0.055) / 1.055).powf(2.4)
+            };
+            coverage += lin;
+            if v != 0 && v != 255 {
+                partial += 1;
+            }
+        }
+    }
+    let expected = 2.0 * r * h * frame.pixels_per_unit.powi(2);
+    let error = (coverage - expected) / expected;
+    println!("supersampled cylinder: coverage {coverage:.1} px vs {expected:.1} px ({:+.3} %), {partial} edge pixels", error * 100.0);
+    assert!(error.abs() < 0.005, "{error}");
+    assert!(partial > 100, "edges are antialiased: {partial}");
+}
+
+#[test]
+fn tiny_images_do_not_panic() {
+    let mesh = uv_sphere(Vec3::ZERO, 1.0, 8, 16);
+    let values: Vec<f64> = mesh.positions.iter().map(|p| p.x).collect();
+    let field = VertexValues::new(&values, (-1.0, 1.0), "a rather long title (mm)");
+    for (w, h) in [(1, 1), (1, 40), (40, 1), (3, 3), (17, 9)] {
+        for supersample in [1, 2, 4] {
+            let options = RenderOptions {
+                width: w,
+                height: h,
+                supersample,
+                ..RenderOptions::default()
+            };
+            let plain = render_mesh(&mesh, &options).unwrap();
+            assert_eq!(plain.image.pixels.len(), 3 * 3 * (w * h) as usize);
+            render_mesh_values(&mesh, &field, &options).unwrap();
+        }
+    }
+}
+
+#[test]
 fn colour_by_value_with_a_colour_bar() {
     let mesh = uv_sphere(Vec3::ZERO, 1.0, 48, 96);
     // Height above the equator in mm on a 1 m sphere: −1000 … 1000.

@@ -1235,10 +1235,11 @@ fn colour_bar_width(height: u32) -> usize {
     ((height as f64 * 0.24).round() as usize).max(90)
 }
 
-/// "Nice" tick values inside `[min, max]`: steps of 1, 2, 2.5 or 5 × 10ⁿ,
-/// about five ticks, with the number of decimals the step needs.
+/// "Nice" tick values inside `[min, max]`: the smallest step of 1, 2, 2.5
+/// or 5 × 10ⁿ that is at least ¾ of a fifth of the range (so 4 to 8 ticks),
+/// with the number of decimals the step needs.
 fn ticks(min: Real, max: Real) -> (Vec<Real>, usize) {
-    let raw = (max - min) / 5.0;
+    let raw = 0.75 * (max - min) / 5.0;
     let magnitude = 10f64.powf(raw.log10().floor());
     let step = [1.0, 2.0, 2.5, 5.0, 10.0]
         .iter()
@@ -1391,8 +1392,18 @@ mod tests {
         let (t, d) = ticks(0.0, 1.0);
         assert_eq!(t.len(), 6);
         assert_eq!(d, 1);
-        let (t, d) = ticks(-5.0, 7.5);
-        assert_eq!(t[0], -5.0);
+        let (t, d) = ticks(-5.0, 10.0);
+        assert_eq!(t, vec![-5.0, -2.5, 0.0, 2.5, 5.0, 7.5, 10.0]);
         assert_eq!(d, 1); // step 2.5
+        let (t, d) = ticks(-150.0, 150.0);
+        assert_eq!(t, vec![-150.0, -100.0, -50.0, 0.0, 50.0, 100.0, 150.0]);
+        assert_eq!(d, 0);
+        for (lo, hi) in [(0.0, 1e-9), (-3.7, 12.1), (1e6, 1e6 + 3.0), (0.0, 7.0)] {
+            let (t, _) = ticks(lo, hi);
+            assert!((3..=8).contains(&t.len()), "{lo} {hi}: {t:?}");
+            assert!(t
+                .iter()
+                .all(|v| *v >= lo - 1e-9 * hi.abs() && *v <= hi + 1e-9 * hi.abs()));
+        }
     }
 }

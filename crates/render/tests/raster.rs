@@ -530,4 +530,16 @@ fn male_body_renders_as_a_shaded_body() {
     );
     assert!(front > 0.15 * box_front && front < 0.6 * box_front);
     assert!(side < front);
+    // Coloured by a value per vertex (here the distance in mm in front of
+    // the body's mid-plane, standing in for a model-to-scan distance).
+    let mid = bounds.center().z;
+    let values: Vec<f64> = mesh
+        .positions
+        .iter()
+        .map(|p| (p.z - mid) * 1000.0)
+        .collect();
+    let field = VertexValues::new(&values, (-150.0, 150.0), "distance (mm)");
+    let render = render_mesh_values(&mesh, &field, &options).unwrap();
+    save(&render, "trigbody_render_mh_male_values.png");
+    assert_eq!(render.image.width, 3 * 512 + 184);
 }

@@ -55,6 +55,7 @@
 use crate::colormap::{Colormap, Rgb};
 use crate::text::{draw_labels, text_size, Anchor, Label};
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::fmt;
 use std::str::FromStr;
 use thiserror::Error;
@@ -910,52 +911,44 @@ impl Shader<'_> {
     }
 }
 
-/// The common path of [`render_mesh`] and [`render_mesh_values`].
-fn render(
+/// The surface colour source, with the values checked against the mesh.
+fn paint<'a>(
     mesh: &Mesh,
-    values: Option<&VertexValues<'_>>,
+    values: Option<&VertexValues<'a>>,
     options: &RenderOptions,
-) -> Result<Render, RenderError> {
-    check_options(options)?;
-    mesh.validate()?;
-    if mesh.triangles.len() >= NO_TRIANGLE as usize {
-        return Err(RenderError::BadOption {
-            name: "mesh triangles",
-            value: mesh.triangles.len().to_string(),
-            expected: "fewer than 2³² − 1",
+) -> Result<Paint<'a>, RenderError> {
+    let Some(v) = values else {
+        return Ok(Paint::Uniform(options.color.map(srgb_to_linear)));
+    };
+    if v.values.len() != mesh.positions.len() {
+        return Err(RenderError::ValueCount {
+            values: v.values.len(),
+            vertices: mesh.positions.len(),
         });
     }
-    let paint = match values {
-        None => Paint::Uniform(options.color.map(srgb_to_linear)),
-        Some(v) => {
-            if v.values.len() != mesh.positions.len() {
-                return Err(RenderError::ValueCount {
-                    values: v.values.len(),
-                    vertices: mesh.positions.len(),
-                });
-            }
-            let (min, max) = v.range;
-            if !(min.is_finite() && max.is_finite() && min < max && (max - min).is_finite()) {
-                return Err(RenderError::BadRange { min, max });
-            }
-            let table = (0..256)
-                .map(|i| v.colormap.color(i as Real / 255.0).map(srgb_to_linear))
-                .collect();
-            Paint::Values {
-                values: v.values,
-                min,
-                max,
-                table,
-            }
-        }
-    };
-    let cameras = options
-        .views
-        .iter()
-        .map(|v| camera(v, options.up, options.front))
-        .collect::<Result<Vec<_>, _>>()?;
+    let (min, max) = v.range;
+    if !(min.is_finite() && max.is_finite() && min < max && (max - min).is_finite()) {
+        return Err(RenderError::BadRange { min, max });
+    }
+    let table = (0..256)
+        .map(|i| v.colormap.color(i as Real / 255.0).map(srgb_to_linear))
+        .collect();
+    Ok(Paint::Values {
+        values: v.values,
+        min,
+        max,
+        table,
+    })
+}
 
-    // Framing: each view's projected extent; one scale for all views.
+/// Fit to view (step 2 of the module docs): the centre `(c_r, c_s)` of
+/// each view's projected extent, and the one scale `k` (pixels per unit)
+/// at which every extent fits its panel inside the margin.
+fn frame_views(
+    mesh: &Mesh,
+    cameras: &[Camera],
+    options: &RenderOptions,
+) -> (Vec<(Real, Real)>, Real) {
     let (pw, ph) = (options.width as Real, options.height as Real);
     let margin_px = options.margin * pw.min(ph);
     let (avail_w, avail_h) = (
@@ -964,7 +957,7 @@ fn render(
     );
     let mut centers = Vec::with_capacity(cameras.len());
     let mut scale = Real::INFINITY;
-    for cam in &cameras {
+    for cam in cameras {
         let (mut lo_r, mut hi_r, mut lo_s, mut hi_s) = (
             Real::INFINITY,
             Real::NEG_INFINITY,
@@ -989,10 +982,83 @@ fn render(
         // Every vertex projects to one point in every view: nothing has area.
         scale = 1.0;
     }
+    (centers, scale)
+}
 
-    let vertex_normals: Vec<Vec3> = match &mesh.normals {
-        Some(n) => n.clone(),
-        None => area_weighted_normals(mesh),
+/// Projects every vertex of `mesh` for one view into a sample grid of
+/// `width × height` at `k` samples per unit (step 2), turning the normals
+/// into camera space (unit length; zero when unusable).
+fn project(
+    mesh: &Mesh,
+    normals: &[Vec3],
+    cam: &Camera,
+    center: (Real, Real),
+    k: Real,
+    width: usize,
+    height: usize,
+) -> Projected {
+    let (cx, cy) = (0.5 * width as Real, 0.5 * height as Real);
+    // Framing keeps every corner inside the grid; the clamp only guards the
+    // integer arithmetic.
+    let limit = 4.0 * width.max(height) as Real;
+    let fixed = |v: Real| (v.clamp(-limit, limit) * SUBPIXEL as Real).round() as i32;
+    let (raster, shade) = mesh
+        .positions
+        .par_iter()
+        .zip(normals)
+        .map(|(p, nv)| {
+            let x = cx + k * (p.dot(cam.right) - center.0);
+            let y = cy - k * (p.dot(cam.up) - center.1);
+            let depth = (-k * p.dot(cam.toward)) as f32;
+            let n = Vec3::new(nv.dot(cam.right), nv.dot(cam.up), nv.dot(cam.toward));
+            let normal = n
+                .normalized()
+                .map_or([0.0; 3], |n| [n.x as f32, n.y as f32, n.z as f32]);
+            (
+                RasterVertex {
+                    fx: fixed(x),
+                    fy: fixed(y),
+                    depth,
+                },
+                ShadeVertex {
+                    x: x as f32,
+                    y: y as f32,
+                    depth,
+                    normal,
+                },
+            )
+        })
+        .unzip();
+    Projected { raster, shade }
+}
+
+/// The common path of [`render_mesh`] and [`render_mesh_values`].
+fn render(
+    mesh: &Mesh,
+    values: Option<&VertexValues<'_>>,
+    options: &RenderOptions,
+) -> Result<Render, RenderError> {
+    check_options(options)?;
+    mesh.validate()?;
+    if mesh.triangles.len() >= NO_TRIANGLE as usize {
+        return Err(RenderError::BadOption {
+            name: "mesh triangles",
+            value: mesh.triangles.len().to_string(),
+            expected: "fewer than 2³² − 1",
+        });
+    }
+    let paint = paint(mesh, values, options)?;
+    let cameras = options
+        .views
+        .iter()
+        .map(|v| camera(v, options.up, options.front))
+        .collect::<Result<Vec<_>, _>>()?;
+
+    let (centers, scale) = frame_views(mesh, &cameras, options);
+
+    let vertex_normals: Cow<'_, [Vec3]> = match &mesh.normals {
+        Some(n) => Cow::Borrowed(n),
+        None => Cow::Owned(area_weighted_normals(mesh)),
     };
     let light = Vec3::from(options.light).normalized().unwrap_or(Vec3::Z);
     let half = (light + Vec3::Z).normalized().unwrap_or(Vec3::Z);
@@ -1042,40 +1108,7 @@ fn render(
         if v > 0 {
             samples.clear();
         }
-        let (cx, cy) = (0.5 * (w * m) as Real, 0.5 * (h * m) as Real);
-        // Framing keeps every corner inside the panel; the clamp only
-        // guards the integer arithmetic.
-        let limit = 4.0 * (w.max(h) * m) as Real;
-        let (raster, shade): (Vec<RasterVertex>, Vec<ShadeVertex>) = mesh
-            .positions
-            .par_iter()
-            .zip(&vertex_normals)
-            .map(|(p, nv)| {
-                let x = cx + k * (p.dot(cam.right) - center.0);
-                let y = cy - k * (p.dot(cam.up) - center.1);
-                let depth = (-k * p.dot(cam.toward)) as f32;
-                let fixed = |v: Real| (v.clamp(-limit, limit) * SUBPIXEL as Real).round() as i32;
-                let nc = [nv.dot(cam.right), nv.dot(cam.up), nv.dot(cam.toward)];
-                (
-                    RasterVertex {
-                        fx: fixed(x),
-                        fy: fixed(y),
-                        depth,
-                    },
-                    ShadeVertex {
-                        x: x as f32,
-                        y: y as f32,
-                        depth,
-                        normal: if nc.iter().all(|c| c.is_finite()) {
-                            nc.map(|c| c as f32)
-                        } else {
-                            [0.0; 3]
-                        },
-                    },
-                )
-            })
-            .unzip();
-        let proj = Projected { raster, shade };
+        let proj = project(mesh, &vertex_normals, cam, center, k, w * m, h * m);
         rasterize(mesh, &proj, &mut samples);
         resolve(
             mesh,

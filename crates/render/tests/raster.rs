@@ -118,6 +118,38 @@ fn faces_towards_the_light_are_brighter() {
 }
 
 #[test]
+fn the_mesh_normals_are_used_when_present() {
+    // A flat square facing the viewer, its normals tilted towards the light
+    // (upper left) or away from it (lower right); the picture follows the
+    // normals, not the flat geometry.
+    let p = Vec3::new;
+    let mut square = Mesh::new(
+        vec![p(0., 0., 0.), p(1., 0., 0.), p(1., 1., 0.), p(0., 1., 0.)],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
+    .unwrap();
+    let options = measuring(64, View::front());
+    let mean_luminance = |mesh: &Mesh| {
+        let render = render_mesh(mesh, &options).unwrap();
+        let pixels = covered(&render, 0, options.background);
+        pixels
+            .iter()
+            .map(|&(x, y)| luminance(render.image.pixel(x, y).unwrap()))
+            .sum::<f64>()
+            / pixels.len() as f64
+    };
+    let computed = mean_luminance(&square);
+    square.normals = Some(vec![p(-1., 1., 1.); 4]);
+    let towards = mean_luminance(&square);
+    square.normals = Some(vec![p(1., -1., 1.); 4]);
+    let away = mean_luminance(&square);
+    println!(
+        "square: computed normals {computed:.3}, towards the light {towards:.3}, away {away:.3}"
+    );
+    assert!(towards > computed && computed > away);
+}
+
+#[test]
 fn sphere_silhouette_is_a_disc() {
     let centre = Vec3::new(0.2, -0.1, 0.3);
     let r = 0.5;

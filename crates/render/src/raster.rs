@@ -610,12 +610,24 @@ const SUBPIXEL_BITS: u32 = 8;
 const SUBPIXEL: i64 = 1 << SUBPIXEL_BITS;
 const NO_TRIANGLE: u32 = u32::MAX;
 
-/// The sample grid of one panel: nearest depth and triangle per sample.
+/// One sample of the z-buffer: the nearest depth so far and its triangle,
+/// side by side so that a depth test and its write touch one cache line.
+#[derive(Clone, Copy, Debug)]
+struct Cell {
+    depth: f32,
+    triangle: u32,
+}
+
+const EMPTY_CELL: Cell = Cell {
+    depth: f32::INFINITY,
+    triangle: NO_TRIANGLE,
+};
+
+/// The sample grid of one panel, rows top to bottom.
 struct Samples {
     width: usize,
     height: usize,
-    depth: Vec<f32>,
-    triangle: Vec<u32>,
+    cells: Vec<Cell>,
 }
 
 impl Samples {
@@ -623,13 +635,11 @@ impl Samples {
         Samples {
             width,
             height,
-            depth: vec![f32::INFINITY; width * height],
-            triangle: vec![NO_TRIANGLE; width * height],
+            cells: vec![EMPTY_CELL; width * height],
         }
     }
     fn clear(&mut self) {
-        self.depth.fill(f32::INFINITY);
-        self.triangle.fill(NO_TRIANGLE);
+        self.cells.fill(EMPTY_CELL);
     }
 }
 
@@ -664,17 +674,15 @@ fn rasterize(mesh: &Mesh, p: &Projected, target: &mut Samples) {
     let bands = (2 * rayon::current_num_threads()).clamp(1, target.height.div_ceil(16).max(1));
     let rows = target.height.div_ceil(bands).max(1);
     target
-        .depth
+        .cells
         .par_chunks_mut(rows * width)
-        .zip(target.triangle.par_chunks_mut(rows * width))
         .enumerate()
-        .for_each(|(b, (depth, triangle))| {
+        .for_each(|(b, cells)| {
             let band = Band {
                 width,
                 first_row: b * rows,
-                rows: depth.len() / width,
-                depth,
-                triangle,
+                rows: cells.len() / width,
+                cells,
             };
             rasterize_band(mesh, p, band);
         });
@@ -685,8 +693,7 @@ struct Band<'a> {
     width: usize,
     first_row: usize,
     rows: usize,
-    depth: &'a mut [f32],
-    triangle: &'a mut [u32],
+    cells: &'a mut [Cell],
 }
 
 /// Rasterizes every triangle's part inside `band`.
@@ -756,9 +763,12 @@ fn rasterize_band(mesh: &Mesh, p: &Projected, band: Band<'_>) {
                     // they do not matter for depth.
                     let z = z0 + w1 as f32 * dz1 + w2 as f32 * dz2;
                     let i = row + x as usize;
-                    if z < band.depth[i] {
-                        band.depth[i] = z;
-                        band.triangle[i] = t;
+                    let cell = &mut band.cells[i];
+                    if z < cell.depth {
+                        *cell = Cell {
+                            depth: z,
+                            triangle: t,
+                        };
                     }
                 }
                 w0 += e0x;
@@ -1208,7 +1218,7 @@ fn resolve_pixel(
     y: usize,
 ) -> Option<[f32; 3]> {
     let sample = |i: usize, j: usize| (y * m + j) * samples.width + x * m + i;
-    let first = samples.triangle[sample(0, 0)];
+    let first = samples.cells[sample(0, 0)].triangle;
     // A pixel covered by one continuous surface (no background sample,
     // depths within `continuity`) is shaded once at its centre:
     // antialiasing is only needed at silhouettes and occlusion edges,
@@ -1220,10 +1230,10 @@ fn resolve_pixel(
     for j in 0..m {
         for i in 0..m {
             let s = sample(i, j);
-            let hit = samples.triangle[s] != NO_TRIANGLE;
+            let Cell { depth: d, triangle } = samples.cells[s];
+            let hit = triangle != NO_TRIANGLE;
             any |= hit;
             all &= hit;
-            let d = samples.depth[s];
             lo = lo.min(d);
             hi = hi.max(d);
         }
@@ -1244,7 +1254,7 @@ fn resolve_pixel(
     let mut sum = [0.0f32; 3];
     for j in 0..m {
         for i in 0..m {
-            let t = samples.triangle[sample(i, j)];
+            let t = samples.cells[sample(i, j)].triangle;
             let c = if t == NO_TRIANGLE {
                 background
             } else {

@@ -150,6 +150,36 @@ fn the_mesh_normals_are_used_when_present() {
 }
 
 #[test]
+fn either_winding_shades_the_same() {
+    // Reversed triangles (inward computed normals) and reversed triangles
+    // with outward normals given both give the picture of the original.
+    let mesh = capped_cylinder(0.3, 1.2, 64);
+    let options = RenderOptions {
+        width: 120,
+        height: 120,
+        views: vec![
+            View::front(),
+            View {
+                elevation_deg: 40.0,
+                ..View::back()
+            },
+        ],
+        ..RenderOptions::default()
+    };
+    let original = render_mesh(&mesh, &options).unwrap().image;
+    let mut reversed = mesh.clone();
+    for t in &mut reversed.triangles {
+        t.swap(1, 2);
+    }
+    let differs = |a: &[u8], b: &[u8]| a.iter().zip(b).filter(|(p, q)| p.abs_diff(**q) > 2).count();
+    let inward = render_mesh(&reversed, &options).unwrap().image;
+    assert_eq!(differs(&original.pixels, &inward.pixels), 0);
+    reversed.normals = Some(trigbody_render::area_weighted_normals(&mesh));
+    let given = render_mesh(&reversed, &options).unwrap().image;
+    assert_eq!(differs(&original.pixels, &given.pixels), 0);
+}
+
+#[test]
 fn sphere_silhouette_is_a_disc() {
     let centre = Vec3::new(0.2, -0.1, 0.3);
     let r = 0.5;

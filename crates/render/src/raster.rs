@@ -35,7 +35,10 @@
 //!    constant increments; the depth `z = z₀ + λ₁(z₁−z₀) + λ₂(z₂−z₀)` is
 //!    kept when nearer than the z-buffer's (ties keep the earlier triangle,
 //!    so the picture never depends on timing). Zero-area triangles are
-//!    skipped. Both sides of a triangle are drawn (open meshes show their
+//!    skipped. The panel is cut into tiles of 32 × 32 pixels: the triangles
+//!    are first sorted into the tiles their bounding boxes touch (keeping
+//!    mesh order), then each tile is rasterized and shaded on its own, with a
+//!    z-buffer small enough to stay in cache; rows of tiles run in parallel. Both sides of a triangle are drawn (open meshes show their
 //!    inside).
 //! 4. **Shading** (deferred: once per visible sample, not per fragment).
 //!    The normal is `n = Σ λᵢ nᵢ / |Σ λᵢ nᵢ|` from per-vertex normals (the
@@ -623,26 +626,6 @@ const EMPTY_CELL: Cell = Cell {
     triangle: NO_TRIANGLE,
 };
 
-/// The sample grid of one panel, rows top to bottom.
-struct Samples {
-    width: usize,
-    height: usize,
-    cells: Vec<Cell>,
-}
-
-impl Samples {
-    fn new(width: usize, height: usize) -> Self {
-        Samples {
-            width,
-            height,
-            cells: vec![EMPTY_CELL; width * height],
-        }
-    }
-    fn clear(&mut self) {
-        self.cells.fill(EMPTY_CELL);
-    }
-}
-
 /// Whether the directed edge `(dx, dy)` is a top or left edge for a
 /// triangle whose inside has non-negative edge functions: the inside lies
 /// along the gradient `(−dy, dx)`; a left edge has it pointing right
@@ -665,57 +648,116 @@ fn last_sample_at_or_before(v: i64) -> i64 {
     (v - SUBPIXEL / 2).div_euclid(SUBPIXEL)
 }
 
-/// Rasterizes every triangle into the z-buffer (step 3 of the module
-/// docs), in horizontal bands on the rayon threads. Each band owns its
-/// samples and takes the triangles in mesh order, so the result is the same
-/// for any number of threads or bands.
-fn rasterize(mesh: &Mesh, p: &Projected, target: &mut Samples) {
-    let width = target.width;
-    let bands = (2 * rayon::current_num_threads()).clamp(1, target.height.div_ceil(16).max(1));
-    let rows = target.height.div_ceil(bands).max(1);
-    target
-        .cells
-        .par_chunks_mut(rows * width)
-        .enumerate()
-        .for_each(|(b, cells)| {
-            let band = Band {
-                width,
-                first_row: b * rows,
-                rows: cells.len() / width,
-                cells,
-            };
-            rasterize_band(mesh, p, band);
-        });
+/// Side of a square tile in pixels. A tile's samples (at most 128 × 128
+/// cells of 8 bytes with 4 × 4 supersampling, 32 KiB at the default 2 × 2)
+/// stay in the core's cache while its triangles are drawn and its pixels
+/// shaded.
+const TILE: usize = 32;
+
+/// The triangles that may cover each tile, in mesh order. The mesh is cut
+/// into chunks binned in parallel; a tile's triangles are its list in the
+/// first chunk, then in the second, and so on.
+struct Bins {
+    tiles_x: usize,
+    chunks: Vec<Vec<Vec<u32>>>,
 }
 
-/// The rows `first_row .. first_row + rows` of the sample grid.
-struct Band<'a> {
+impl Bins {
+    /// The triangles of tile `(tx, ty)`, in mesh order.
+    fn tile(&self, tx: usize, ty: usize) -> impl Iterator<Item = u32> + '_ {
+        let i = ty * self.tiles_x + tx;
+        self.chunks.iter().flat_map(move |c| c[i].iter().copied())
+    }
+}
+
+/// The sample rectangle of a triangle's sample centres inside a
+/// `width × height` grid, `None` when it covers none or has no area.
+#[inline]
+fn sample_bounds(
+    p: &Projected,
+    tri: &[u32; 3],
     width: usize,
-    first_row: usize,
-    rows: usize,
+    height: usize,
+) -> Option<(i64, i64, i64, i64)> {
+    let [v0, v1, v2] = tri.map(|i| p.raster[i as usize]);
+    let (x0, y0) = (v0.fx as i64, v0.fy as i64);
+    let (x1, y1) = (v1.fx as i64, v1.fy as i64);
+    let (x2, y2) = (v2.fx as i64, v2.fy as i64);
+    let min_x = first_sample_at_or_after(x0.min(x1).min(x2)).max(0);
+    let max_x = last_sample_at_or_before(x0.max(x1).max(x2)).min(width as i64 - 1);
+    let min_y = first_sample_at_or_after(y0.min(y1).min(y2)).max(0);
+    let max_y = last_sample_at_or_before(y0.max(y1).max(y2)).min(height as i64 - 1);
+    if min_x > max_x || min_y > max_y {
+        return None;
+    }
+    let area = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0);
+    (area != 0).then_some((min_x, max_x, min_y, max_y))
+}
+
+/// Sorts the triangles into the tiles (of `tile` samples) of a
+/// `width × height` sample grid; triangles without area or without a sample
+/// centre are dropped here.
+fn bin(mesh: &Mesh, p: &Projected, width: usize, height: usize, tile: usize) -> Bins {
+    let tiles_x = width.div_ceil(tile);
+    let tiles = tiles_x * height.div_ceil(tile);
+    let chunk = mesh
+        .triangles
+        .len()
+        .div_ceil(4 * rayon::current_num_threads())
+        .max(4096);
+    let chunks = mesh
+        .triangles
+        .par_chunks(chunk)
+        .enumerate()
+        .map(|(c, triangles)| {
+            let mut bins = vec![Vec::new(); tiles];
+            for (k, tri) in triangles.iter().enumerate() {
+                let Some((x0, x1, y0, y1)) = sample_bounds(p, tri, width, height) else {
+                    continue;
+                };
+                let t = (c * chunk + k) as u32;
+                let (tx0, tx1) = (x0 as usize / tile, x1 as usize / tile);
+                for ty in y0 as usize / tile..=y1 as usize / tile {
+                    for tx in tx0..=tx1 {
+                        bins[ty * tiles_x + tx].push(t);
+                    }
+                }
+            }
+            bins
+        })
+        .collect();
+    Bins { tiles_x, chunks }
+}
+
+/// The samples of one tile: `width × height` cells whose top-left sample is
+/// `(x0, y0)` in the panel's sample grid.
+struct Tile<'a> {
+    x0: usize,
+    y0: usize,
+    width: usize,
+    height: usize,
     cells: &'a mut [Cell],
 }
 
-/// Rasterizes every triangle's part inside `band`.
-fn rasterize_band(mesh: &Mesh, p: &Projected, band: Band<'_>) {
-    let w = band.width as i64;
-    let (band_top, band_bottom) = (
-        band.first_row as i64,
-        (band.first_row + band.rows) as i64 - 1,
+/// Rasterizes `triangles` into the tile's z-buffer (step 3 of the module
+/// docs), in the order given.
+fn rasterize_tile(
+    mesh: &Mesh,
+    p: &Projected,
+    tile: &mut Tile<'_>,
+    triangles: impl Iterator<Item = u32>,
+) {
+    let (tile_x0, tile_y0) = (tile.x0 as i64, tile.y0 as i64);
+    let (tile_x1, tile_y1) = (
+        (tile.x0 + tile.width) as i64 - 1,
+        (tile.y0 + tile.height) as i64 - 1,
     );
-    let top_centre = band_top * SUBPIXEL + SUBPIXEL / 2;
-    let bottom_centre = band_bottom * SUBPIXEL + SUBPIXEL / 2;
-    for (t, tri) in mesh.triangles.iter().enumerate() {
-        let [i0, i1, i2] = tri.map(|i| i as usize);
+    for t in triangles {
+        let [i0, i1, i2] = mesh.triangles[t as usize].map(|i| i as usize);
         let (v0, v1, v2) = (p.raster[i0], p.raster[i1], p.raster[i2]);
-        // Cheap rejection of triangles outside the band.
-        let (y0, y1, y2) = (v0.fy as i64, v1.fy as i64, v2.fy as i64);
-        if y0.max(y1).max(y2) < top_centre || y0.min(y1).min(y2) > bottom_centre {
-            continue;
-        }
-        let x0 = v0.fx as i64;
-        let (mut x1, mut y1) = (v1.fx as i64, y1);
-        let (mut x2, mut y2) = (v2.fx as i64, y2);
+        let (x0, y0) = (v0.fx as i64, v0.fy as i64);
+        let (mut x1, mut y1) = (v1.fx as i64, v1.fy as i64);
+        let (mut x2, mut y2) = (v2.fx as i64, v2.fy as i64);
         let (mut z1, mut z2) = (v1.depth, v2.depth);
         let mut area = (x1 - x0) * (y2 - y0) - (y1 - y0) * (x2 - x0);
         if area == 0 {
@@ -727,20 +769,20 @@ fn rasterize_band(mesh: &Mesh, p: &Projected, band: Band<'_>) {
             std::mem::swap(&mut y1, &mut y2);
             area = -area;
         }
-        let min_x = first_sample_at_or_after(x0.min(x1).min(x2)).max(0);
-        let max_x = last_sample_at_or_before(x0.max(x1).max(x2)).min(w - 1);
-        let min_y = first_sample_at_or_after(y0.min(y1).min(y2)).max(band_top);
-        let max_y = last_sample_at_or_before(y0.max(y1).max(y2)).min(band_bottom);
+        let min_x = first_sample_at_or_after(x0.min(x1).min(x2)).max(tile_x0);
+        let max_x = last_sample_at_or_before(x0.max(x1).max(x2)).min(tile_x1);
+        let min_y = first_sample_at_or_after(y0.min(y1).min(y2)).max(tile_y0);
+        let max_y = last_sample_at_or_before(y0.max(y1).max(y2)).min(tile_y1);
         if min_x > max_x || min_y > max_y {
             continue;
         }
         // Edge k is opposite vertex k: E_12 weighs v0, E_20 weighs v1,
         // E_01 weighs v2. Each is `dx (p_y − a_y) − dy (p_x − a_x)`, minus a
         // bias of 1 off top-left edges so that `≥ 0` applies the tie rule.
+        let px = min_x * SUBPIXEL + SUBPIXEL / 2;
+        let py = min_y * SUBPIXEL + SUBPIXEL / 2;
         let edge = |ax: i64, ay: i64, bx: i64, by: i64| {
             let (dx, dy) = (bx - ax, by - ay);
-            let px = min_x * SUBPIXEL + SUBPIXEL / 2;
-            let py = min_y * SUBPIXEL + SUBPIXEL / 2;
             let bias = if is_top_left(dx, dy) { 0 } else { 1 };
             let start = dx * (py - ay) - dy * (px - ax) - bias;
             (start, -dy * SUBPIXEL, dx * SUBPIXEL)
@@ -752,18 +794,16 @@ fn rasterize_band(mesh: &Mesh, p: &Projected, band: Band<'_>) {
         let inv_area = 1.0 / area as f32;
         let dz1 = (z1 - z0) * inv_area;
         let dz2 = (z2 - z0) * inv_area;
-        let t = t as u32;
         let (mut r0, mut r1, mut r2) = (e0, e1, e2);
         for y in min_y..=max_y {
-            let row = (y as usize - band.first_row) * band.width;
+            let row = (y - tile_y0) as usize * tile.width;
             let (mut w0, mut w1, mut w2) = (r0, r1, r2);
             for x in min_x..=max_x {
                 if (w0 | w1 | w2) >= 0 {
                     // The biases are at most 1 in units of 2⁻¹⁶ sample²;
                     // they do not matter for depth.
                     let z = z0 + w1 as f32 * dz1 + w2 as f32 * dz2;
-                    let i = row + x as usize;
-                    let cell = &mut band.cells[i];
+                    let cell = &mut tile.cells[row + (x - tile_x0) as usize];
                     if z < cell.depth {
                         *cell = Cell {
                             depth: z,
@@ -1012,11 +1052,29 @@ fn project(
     // integer arithmetic.
     let limit = 4.0 * width.max(height) as Real;
     let fixed = |v: Real| (v.clamp(-limit, limit) * SUBPIXEL as Real).round() as i32;
-    let (raster, shade) = mesh
-        .positions
-        .par_iter()
-        .zip(normals)
-        .map(|(p, nv)| {
+    let n = mesh.positions.len();
+    let mut raster = vec![
+        RasterVertex {
+            fx: 0,
+            fy: 0,
+            depth: 0.0
+        };
+        n
+    ];
+    let mut shade = vec![
+        ShadeVertex {
+            x: 0.0,
+            y: 0.0,
+            depth: 0.0,
+            normal: [0.0; 3]
+        };
+        n
+    ];
+    raster
+        .par_iter_mut()
+        .zip(shade.par_iter_mut())
+        .zip(mesh.positions.par_iter().zip(normals))
+        .for_each(|((r, sv), (p, nv))| {
             let x = cx + k * (p.dot(cam.right) - center.0);
             let y = cy - k * (p.dot(cam.up) - center.1);
             let depth = (-k * p.dot(cam.toward)) as f32;
@@ -1024,21 +1082,18 @@ fn project(
             let normal = n
                 .normalized()
                 .map_or([0.0; 3], |n| [n.x as f32, n.y as f32, n.z as f32]);
-            (
-                RasterVertex {
-                    fx: fixed(x),
-                    fy: fixed(y),
-                    depth,
-                },
-                ShadeVertex {
-                    x: x as f32,
-                    y: y as f32,
-                    depth,
-                    normal,
-                },
-            )
-        })
-        .unzip();
+            *r = RasterVertex {
+                fx: fixed(x),
+                fy: fixed(y),
+                depth,
+            };
+            *sv = ShadeVertex {
+                x: x as f32,
+                y: y as f32,
+                depth,
+                normal,
+            };
+        });
     Projected { raster, shade }
 }
 
@@ -1111,25 +1166,20 @@ fn render(
             .take(image_w * h * 3)
             .collect(),
     };
-    let mut samples = Samples::new(w * m, h * m);
     let mut frames = Vec::with_capacity(cameras.len());
     let k = scale * m as Real;
     for (v, (cam, &center)) in cameras.iter().zip(&centers).enumerate() {
-        if v > 0 {
-            samples.clear();
-        }
         let proj = project(mesh, &vertex_normals, cam, center, k, w * m, h * m);
-        rasterize(mesh, &proj, &mut samples);
-        resolve(
+        draw_panel(
             mesh,
             &proj,
-            &samples,
             &shader,
             m,
             background,
             &encoder,
             &mut image,
             v * w,
+            (w, h),
         );
         frames.push(ViewFrame {
             view: options.views[v].clone(),
@@ -1173,52 +1223,81 @@ fn render(
     Ok(Render { image, frames })
 }
 
-/// Averages each pixel's samples into the panel at column `left` (step 5),
-/// rows in parallel (each pixel depends on its own samples only).
-fn resolve(
+/// Draws one view into the panel of `image` at column `left`: bins the
+/// triangles, then for each tile clears a small z-buffer, rasterizes the
+/// tile's triangles (step 3) and averages each pixel's samples (step 5).
+/// Rows of tiles run in parallel; each tile takes its triangles in mesh
+/// order and owns its pixels, so the picture is the same for any number
+/// of threads.
+fn draw_panel(
     mesh: &Mesh,
     proj: &Projected,
-    samples: &Samples,
     shader: &Shader<'_>,
     m: usize,
     background: [f32; 3],
     encoder: &SrgbEncoder,
     image: &mut RgbImage,
     left: usize,
+    (w, h): (usize, usize),
 ) {
-    let w = samples.width / m;
+    let (grid_w, grid_h) = (w * m, h * m);
+    let tile = TILE * m;
+    let bins = bin(mesh, proj, grid_w, grid_h, tile);
     let stride = 3 * image.width as usize;
     image
         .pixels
-        .par_chunks_mut(stride)
+        .par_chunks_mut(stride * TILE)
         .enumerate()
-        .for_each(|(y, row)| {
-            let panel = &mut row[3 * left..3 * (left + w)];
-            for (x, out) in panel.chunks_exact_mut(3).enumerate() {
-                if let Some(c) = resolve_pixel(mesh, proj, samples, shader, m, background, x, y) {
-                    out[0] = encoder.encode(c[0]);
-                    out[1] = encoder.encode(c[1]);
-                    out[2] = encoder.encode(c[2]);
+        .for_each(|(ty, strip)| {
+            let mut cells = vec![EMPTY_CELL; tile * tile];
+            let y0 = ty * tile;
+            let height = tile.min(grid_h - y0);
+            for tx in 0..bins.tiles_x {
+                let x0 = tx * tile;
+                let width = tile.min(grid_w - x0);
+                let cells = &mut cells[..width * height];
+                cells.fill(EMPTY_CELL);
+                let mut t = Tile {
+                    x0,
+                    y0,
+                    width,
+                    height,
+                    cells,
+                };
+                rasterize_tile(mesh, proj, &mut t, bins.tile(tx, ty));
+                for py in 0..height / m {
+                    let row = &mut strip[py * stride..(py + 1) * stride];
+                    for px in 0..width / m {
+                        let (x, y) = (x0 / m + px, y0 / m + py);
+                        if let Some(c) = resolve_pixel(mesh, proj, &t, shader, m, background, x, y)
+                        {
+                            let o = 3 * (left + x);
+                            row[o] = encoder.encode(c[0]);
+                            row[o + 1] = encoder.encode(c[1]);
+                            row[o + 2] = encoder.encode(c[2]);
+                        }
+                    }
                 }
             }
         });
 }
 
-/// The linear-light colour of pixel `(x, y)` of a panel, or `None` where
-/// no sample hit the mesh (the background is already there).
+/// The linear-light colour of panel pixel `(x, y)` from the samples of
+/// `tile`, or `None` where no sample hit the mesh (the background is
+/// already there).
 #[inline]
 fn resolve_pixel(
     mesh: &Mesh,
     proj: &Projected,
-    samples: &Samples,
+    tile: &Tile<'_>,
     shader: &Shader<'_>,
     m: usize,
     background: [f32; 3],
     x: usize,
     y: usize,
 ) -> Option<[f32; 3]> {
-    let sample = |i: usize, j: usize| (y * m + j) * samples.width + x * m + i;
-    let first = samples.cells[sample(0, 0)].triangle;
+    let sample = |i: usize, j: usize| (y * m + j - tile.y0) * tile.width + x * m + i - tile.x0;
+    let first = tile.cells[sample(0, 0)].triangle;
     // A pixel covered by one continuous surface (no background sample,
     // depths within `continuity`) is shaded once at its centre:
     // antialiasing is only needed at silhouettes and occlusion edges,
@@ -1229,13 +1308,12 @@ fn resolve_pixel(
     let (mut lo, mut hi) = (f32::INFINITY, f32::NEG_INFINITY);
     for j in 0..m {
         for i in 0..m {
-            let s = sample(i, j);
-            let Cell { depth: d, triangle } = samples.cells[s];
+            let Cell { depth, triangle } = tile.cells[sample(i, j)];
             let hit = triangle != NO_TRIANGLE;
             any |= hit;
             all &= hit;
-            lo = lo.min(d);
-            hi = hi.max(d);
+            lo = lo.min(depth);
+            hi = hi.max(depth);
         }
     }
     if !any {
@@ -1254,7 +1332,7 @@ fn resolve_pixel(
     let mut sum = [0.0f32; 3];
     for j in 0..m {
         for i in 0..m {
-            let t = samples.cells[sample(i, j)].triangle;
+            let t = tile.cells[sample(i, j)].triangle;
             let c = if t == NO_TRIANGLE {
                 background
             } else {

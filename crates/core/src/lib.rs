@@ -14,6 +14,7 @@
 //! ```
 
 pub mod curve;
+pub mod distance;
 pub mod ellipse;
 pub mod fit;
 pub mod linalg;

@@ -13,6 +13,9 @@
 //!
 //! Every reader works against [`std::io::Read`], every writer against
 //! [`std::io::Write`]; the path functions pick the format by extension.
+//! Readers take the whole input into memory first and parse the bytes:
+//! that is fast, and it lets every count in a header be checked against
+//! the real length before anything is allocated.
 //! Reading applies [`ReadOptions`] (unit scale, up axis) and then the core's
 //! validation, so NaN or infinite coordinates are rejected with the vertex
 //! index. No input makes a reader panic: malformed files give an

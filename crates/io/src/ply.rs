@@ -543,11 +543,18 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
     };
     for element in &header.elements {
         let min = min_size(element);
+        if min == 0 {
+            continue; // nothing stored per instance, however many
+        }
         let available = (data.len() - cur.pos.min(data.len())) as u64;
+        let all_scalar = element
+            .properties
+            .iter()
+            .all(|p| matches!(p.kind, Kind::Scalar(_)));
         let needed = element.count.saturating_mul(min);
-        if needed > available {
-            // Locate the first instance that cannot be complete.
-            let index = available.checked_div(min).unwrap_or(0);
+        if all_scalar && needed > available {
+            // Fixed size: the first instance that cannot be complete is known.
+            let index = available / min;
             return Err(FormatError::new(
                 Format::Ply,
                 Location::Element {
@@ -564,28 +571,23 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
             )
             .into());
         }
-        if min == 0 {
-            continue; // nothing stored per instance
-        }
-        // Bounded by the check above: count ≤ available bytes.
-        let count = element.count as usize;
+        // Never reserve more than the bytes left could hold; an element with
+        // lists that claims more runs out of input at a known instance below
+        // (every instance takes at least `min` ≥ 1 bytes, so that is soon).
+        let cap = usize::try_from(element.count.min(available / min)).unwrap_or(0);
         match element.role {
             Role::Vertex => {
-                sink.positions.reserve_exact(count);
+                sink.positions.reserve_exact(cap);
                 if sink.with_normals {
-                    sink.normals.reserve_exact(count);
+                    sink.normals.reserve_exact(cap);
                 }
             }
-            Role::Face => sink.triangles.reserve(count),
+            Role::Face => sink.triangles.reserve(cap),
             Role::Other => {}
         }
-        // Fast skip of elements that are all scalars and unused.
-        let all_scalar = element
-            .properties
-            .iter()
-            .all(|p| matches!(p.kind, Kind::Scalar(_)));
         if element.role == Role::Other && all_scalar {
-            cur.pos += count * min as usize;
+            // Unused and fixed size: skip in one step (checked above).
+            cur.pos += cap * min as usize;
             continue;
         }
         for index in 0..element.count {

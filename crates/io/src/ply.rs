@@ -783,10 +783,12 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
                 match (p.kind, p.slot) {
                     (Kind::Scalar(_), Slot::Coord(k)) => p3[k] = value(what, false)?.0,
                     (Kind::Scalar(_), Slot::Normal(k)) => n3[k] = value(what, false)?.0,
-                    (Kind::Scalar(s), _) => {
-                        value(what, s.is_integer())?;
+                    (Kind::Scalar(_), _) => {
+                        // Unused: any number will do (some writers put
+                        // `255.0` in a uchar column).
+                        value(what, false)?;
                     }
-                    (Kind::List { item, .. }, slot) => {
+                    (Kind::List { .. }, slot) => {
                         let (n, line) = value(what, true)?;
                         if n < 0.0 {
                             return Err(at(
@@ -801,7 +803,7 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
                         }
                         // Bounded by the input: each item needs a token.
                         for _ in 0..n as u64 {
-                            let (v, line) = value(what, item.is_integer())?;
+                            let (v, line) = value(what, slot == Slot::FaceIndices)?;
                             if slot == Slot::FaceIndices {
                                 let v = sink.index(v as i64).map_err(|k| at(k, line))?;
                                 sink.polygon.push(v);

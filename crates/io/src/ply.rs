@@ -590,6 +590,13 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
             cur.pos += cap * min as usize;
             continue;
         }
+        if element.role == Role::Vertex && all_scalar {
+            // Fixed-size records, all present (checked above): the fast path.
+            let bytes = &data[cur.pos..cur.pos + cap * min as usize];
+            read_vertex_records::<BIG>(element, bytes, min as usize, sink);
+            cur.pos += bytes.len();
+            continue;
+        }
         for index in 0..element.count {
             let start = cur.pos;
             let at = |kind: FormatErrorKind| -> IoError {
@@ -667,6 +674,71 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
         }
     }
     Ok(())
+}
+
+/// Reads one scalar at `offset` of a record known to be long enough.
+#[inline(always)]
+fn scalar_at<const BIG: bool>(record: &[u8], offset: usize, s: Scalar) -> f64 {
+    macro_rules! num {
+        ($t:ty, $n:literal) => {{
+            let mut b = [0u8; $n];
+            b.copy_from_slice(&record[offset..offset + $n]);
+            if BIG {
+                <$t>::from_be_bytes(b)
+            } else {
+                <$t>::from_le_bytes(b)
+            }
+        }};
+    }
+    match s {
+        Scalar::I8 => f64::from(num!(i8, 1)),
+        Scalar::U8 => f64::from(num!(u8, 1)),
+        Scalar::I16 => f64::from(num!(i16, 2)),
+        Scalar::U16 => f64::from(num!(u16, 2)),
+        Scalar::I32 => f64::from(num!(i32, 4)),
+        Scalar::U32 => f64::from(num!(u32, 4)),
+        Scalar::F32 => f64::from(num!(f32, 4)),
+        Scalar::F64 => num!(f64, 8),
+    }
+}
+
+/// The vertex element when every property is a scalar: `bytes` holds whole
+/// records of `stride` bytes, so the offsets of x y z (nx ny nz) are fixed.
+fn read_vertex_records<const BIG: bool>(
+    element: &Element,
+    bytes: &[u8],
+    stride: usize,
+    sink: &mut Sink,
+) {
+    let mut coords = [(0usize, Scalar::F32); 3];
+    let mut normals = [(0usize, Scalar::F32); 3];
+    let mut offset = 0;
+    for p in &element.properties {
+        if let Kind::Scalar(s) = p.kind {
+            match p.slot {
+                Slot::Coord(k) => coords[k] = (offset, s),
+                Slot::Normal(k) => normals[k] = (offset, s),
+                _ => {}
+            }
+            offset += s.size();
+        }
+    }
+    let read3 = |r: &[u8], f: &[(usize, Scalar); 3]| {
+        Vec3::new(
+            scalar_at::<BIG>(r, f[0].0, f[0].1),
+            scalar_at::<BIG>(r, f[1].0, f[1].1),
+            scalar_at::<BIG>(r, f[2].0, f[2].1),
+        )
+    };
+    let records = bytes.chunks_exact(stride);
+    if sink.with_normals {
+        for r in records {
+            sink.positions.push(read3(r, &coords));
+            sink.normals.push(read3(r, &normals));
+        }
+    } else {
+        sink.positions.extend(records.map(|r| read3(r, &coords)));
+    }
 }
 
 /// Whitespace-separated tokens of an ASCII body with their line numbers.

@@ -39,6 +39,7 @@
 
 mod error;
 mod format;
+mod geometry;
 pub mod obj;
 mod options;
 pub mod ply;
@@ -48,7 +49,8 @@ pub mod xyz;
 
 pub use error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 pub use format::Format;
-pub use options::{Geometry, ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
+pub use geometry::Geometry;
+pub use options::{ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
 
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Write};

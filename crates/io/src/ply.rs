@@ -16,7 +16,8 @@
 
 use crate::error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 use crate::format::Format;
-use crate::options::{Geometry, PlyPrecision, ReadOptions, WriteOptions};
+use crate::geometry::Geometry;
+use crate::options::{PlyPrecision, ReadOptions, WriteOptions};
 use crate::text::{excerpt, read_all, Lines};
 use std::io::{BufWriter, Read, Write};
 use trigbody_core::{Mesh, PointCloud, Vec3};

@@ -20,7 +20,8 @@
 
 use crate::error::{FormatError, FormatErrorKind, IoError, Location, Result};
 use crate::format::Format;
-use crate::options::{Geometry, ReadOptions};
+use crate::geometry::Geometry;
+use crate::options::ReadOptions;
 use crate::text::{excerpt, is_blank, parse_real, read_all, Lines};
 use std::borrow::Cow;
 use std::io::{BufWriter, Read, Write};

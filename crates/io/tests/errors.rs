@@ -95,10 +95,16 @@ fn header_count_larger_than_data_does_not_allocate_it() {
     d.extend_from_slice(&[0; 36]);
     d.extend_from_slice(&u32::MAX.to_le_bytes());
     let e = read(&d, Format::Ply);
-    assert!(matches!(
-        kind_at(&e).0,
-        FormatErrorKind::CountTooLarge { .. }
-    ));
+    let (kind, loc) = kind_at(&e);
+    // The list claims 2^32 − 1 indices: the input ends inside face 0.
+    assert!(
+        matches!(kind, FormatErrorKind::UnexpectedEof { .. }),
+        "{kind:?}"
+    );
+    assert!(
+        matches!(loc, Location::Element { element, index: 0, .. } if element == "face"),
+        "{loc:?}"
+    );
 }
 
 #[test]

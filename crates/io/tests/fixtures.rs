@@ -186,3 +186,10 @@ fn binary_stl_with_a_zero_count_from_a_streaming_writer() {
     assert_eq!(g.triangles().len(), 2);
     assert_eq!(g.positions().len(), 4);
 }
+
+#[test]
+fn ascii_ply_unused_integer_columns_may_hold_decimals() {
+    let d = b"ply\nformat ascii 1.0\nelement vertex 1\nproperty int x\nproperty int y\nproperty int z\nproperty uchar red\nproperty list uchar int tex\nend_header\n1 2 3 255.0 2 0.5 1.5\n";
+    let g = trigbody_io::read_bytes(d, trigbody_io::Format::Ply, &ReadOptions::default()).unwrap();
+    assert_eq!(g.positions(), &[Vec3::new(1.0, 2.0, 3.0)]);
+}

@@ -17,7 +17,9 @@ pub mod curve;
 pub mod linalg;
 pub mod math;
 pub mod mesh;
+pub mod section;
 pub mod series;
+pub mod shapes;
 
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use math::{Point2, Point3, Real, Vec2, Vec3};

@@ -310,7 +310,7 @@ impl<'m> MeshSlicer<'m> {
             .bounds()
             .ok_or(SectionError::Mesh(MeshError::NoVertices))?;
         let diagonal = bounds.diagonal();
-        if !(diagonal > 0.0) {
+        if diagonal.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
             return Err(SectionError::Degenerate);
         }
         let (e1, e2) = plane_axes(axis, opts.reference);
@@ -594,10 +594,7 @@ fn stitch(mut chains: Vec<Vec<Point3>>, tol: Real) -> (Vec<Vec<Point3>>, Vec<Vec
     let mut closed = Vec::new();
     let mut open = Vec::new();
     while let Some(mut c) = chains.pop() {
-        loop {
-            let (Some(&first), Some(&last)) = (c.first(), c.last()) else {
-                break;
-            };
+        while let (Some(&first), Some(&last)) = (c.first(), c.last()) {
             if c.len() > 2 && first.distance(last) <= tol {
                 if first == last {
                     c.pop();

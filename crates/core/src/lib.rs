@@ -17,6 +17,7 @@ pub mod curve;
 pub mod linalg;
 pub mod math;
 pub mod mesh;
+pub mod scanner;
 pub mod section;
 pub mod series;
 pub mod shapes;

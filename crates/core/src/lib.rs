@@ -14,15 +14,24 @@
 //! ```
 
 pub mod curve;
+pub mod ellipse;
+pub mod fit;
 pub mod linalg;
+pub mod lsq;
 pub mod math;
 pub mod mesh;
+pub mod order;
 pub mod scanner;
 pub mod section;
 pub mod series;
 pub mod shapes;
 
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
+pub use ellipse::EllipseFit;
+pub use fit::{
+    fit_loop, fit_loop_2d, FitError, FitOptions, LoopFit, OrderChoice, Parameterization, Weighting,
+};
+pub use lsq::FitErrors;
 pub use math::{Point2, Point3, Real, Vec2, Vec3};
 pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
 pub use series::Series;

@@ -21,6 +21,7 @@ pub mod lsq;
 pub mod math;
 pub mod mesh;
 pub mod order;
+pub mod scan_section;
 pub mod scanner;
 pub mod section;
 pub mod series;

@@ -28,17 +28,22 @@
 //!      only the points within 1.5 cells of the boundary are kept (its
 //!      outline);
 //!    * a thin component that does not close (a ring broken by a scanner
-//!      hole) is ordered by angle about the centre of the circle fitted to
-//!      its points (algebraic least squares, `x² + y² + Dx + Ey + F = 0`),
-//!      which stays near the true centre when an arc is missing.
+//!      hole) is an arc. Arcs that are pieces of one loop (disjoint angular
+//!      ranges that complete each other, radii continuous across the gaps:
+//!      see `merge_arcs`) are joined first. Each arc or joined group is
+//!      ordered by angle about the centre of the circle fitted to its points
+//!      (algebraic least squares, `x² + y² + Dx + Ey + F = 0`), which stays
+//!      near the true centre when an arc is missing.
 //! 5. **What is fitted.** The points are grouped into bins along the loop
 //!    (one bin per boundary vertex, i.e. per cell; or per angular step of
 //!    one cell at the loop's mean radius); in each bin points farther than
 //!    three cells from the bin's median are rejected as outliers, and the
 //!    **real scan point nearest to the mean of the rest** represents the bin.
-//!    The loop handed to the curve fit is these representatives in order:
-//!    real points, one per cell of loop length, so dense stretches do not
-//!    outweigh sparse ones and the noise of the kept point is the scanner's.
+//!    The loop handed to the curve fit is these representatives in order,
+//!    projected into the section plane: real points, one per cell of loop
+//!    length, so dense stretches do not outweigh sparse ones and the noise
+//!    of the kept point is the scanner's (their indices in the cloud are
+//!    kept too).
 //!
 //! Holes: where the scanner saw nothing the loop simply has no points; the
 //! chord across the gap gets its share of the curve parameter (chord-length
@@ -48,7 +53,6 @@
 //! whatever the highest harmonics do there. [`ScanLoop::max_gap`] reports
 //! the widest gap bridged.
 
-use crate::curve::Frame;
 use crate::fit::FitOptions;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::mesh::{MeshError, PointCloud};
@@ -139,10 +143,15 @@ impl Default for ScanSectionOptions {
 /// One ordered loop of a slab section.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ScanLoop {
-    /// The representatives in order (what the curve fit gets), with area,
-    /// perimeter (of the polygon through them, gaps closed by chords),
-    /// centroid and frame; counter-clockwise about the plane normal.
+    /// The representatives in order, projected into the section plane
+    /// (what the curve fit gets: real scan points moved at most the slab's
+    /// half-thickness along the normal), with area, perimeter (of the
+    /// polygon through them, gaps closed by chords), centroid and frame;
+    /// counter-clockwise about the plane normal.
     pub outline: SectionLoop,
+    /// Index in the cloud of each point of `outline.points` (the
+    /// unprojected scan point).
+    pub scan_indices: Vec<usize>,
     /// Slab points in this component.
     pub raw_points: usize,
     /// True when the occupancy ring closed (no gap wider than the closing
@@ -311,49 +320,44 @@ impl<'c> CloudSlicer<'c> {
                 members[l as usize].push(k);
             }
         }
-        let mut loops = Vec::new();
+        let mut ordered: Vec<(Vec<usize>, bool, usize)> = Vec::new();
+        let mut arcs: Vec<Vec<usize>> = Vec::new();
         for (comp, m) in members.iter().enumerate() {
             if m.len() < opts.min_component_points.max(3) {
                 continue;
             }
-            let ordered = order_component(&grid, &labels, comp as u32, m, &pts, &cell_of);
-            let Some((reps, closed_ring)) = ordered else {
-                continue;
-            };
-            let points: Vec<Point3> = reps
-                .iter()
-                .map(|&k| self.cloud.positions[ids[k] as usize])
-                .collect();
+            match order_component(&grid, &labels, comp as u32, m, &pts, &cell_of) {
+                Ordering::Done(Some((reps, closed))) => ordered.push((reps, closed, m.len())),
+                Ordering::Done(None) => {}
+                Ordering::Arc => arcs.push(m.clone()),
+            }
+        }
+        for group in merge_arcs(arcs, &pts) {
+            if let Some(reps) = order_by_angle(&grid, &group, &pts) {
+                ordered.push((reps, false, group.len()));
+            }
+        }
+        let mut loops = Vec::new();
+        for (reps, closed_ring, raw) in ordered {
             let planar: Vec<Point3> = reps
                 .iter()
                 .map(|&k| origin + e1 * pts[k].x + e2 * pts[k].y)
                 .collect();
+            let mut indices: Vec<usize> = reps.iter().map(|&k| ids[k] as usize).collect();
             let max_gap = (0..planar.len())
                 .map(|i| planar[i].distance(planar[(i + 1) % planar.len()]))
                 .fold(0.0, Real::max);
-            // Area, centroid and orientation from the points projected into
-            // the plane; the loop keeps the real (3D) points.
             let first = planar[0];
-            let Some(flat) = SectionLoop::from_points(planar, e1, e2) else {
+            let Some(outline) = SectionLoop::from_points(planar, e1, e2) else {
                 continue;
             };
-            let mut points = points;
-            if flat.points.first() != Some(&first) {
-                points.reverse();
+            if outline.points.first() != Some(&first) {
+                indices.reverse();
             }
             loops.push(ScanLoop {
-                outline: SectionLoop {
-                    points,
-                    frame: Frame {
-                        origin: flat.centroid,
-                        e1,
-                        e2,
-                    },
-                    area: flat.area,
-                    perimeter: flat.perimeter,
-                    centroid: flat.centroid,
-                },
-                raw_points: m.len(),
+                outline,
+                scan_indices: indices,
+                raw_points: raw,
                 closed_ring,
                 max_gap,
             });
@@ -544,8 +548,16 @@ impl Grid {
     }
 }
 
-/// Orders one component's points; returns the representatives (indices
-/// into `pts`) in loop order and whether the ring closed.
+/// The outcome of [`order_component`].
+enum Ordering {
+    /// Representatives (indices into the slab points) in loop order and
+    /// whether the ring closed; `None` when nothing could be traced.
+    Done(Option<(Vec<usize>, bool)>),
+    /// A thin open arc: ordered by angle after [`merge_arcs`].
+    Arc,
+}
+
+/// Orders one component's points along its contour, or says it is an arc.
 fn order_component(
     grid: &Grid,
     labels: &[u32],
@@ -553,7 +565,7 @@ fn order_component(
     members: &[usize],
     pts: &[Point2],
     cell_of: &[usize],
-) -> Option<(Vec<usize>, bool)> {
+) -> Ordering {
     let (w, h) = (grid.w, grid.h);
     let in_comp: Vec<bool> = labels.iter().map(|&l| l == comp).collect();
     let comp_cells = in_comp.iter().filter(|&&b| b).count();
@@ -612,9 +624,12 @@ fn order_component(
         } else {
             (in_comp, true)
         };
-        order_by_contour(grid, &region, outer_only, members, pts, cell_of).map(|r| (r, closed_ring))
+        Ordering::Done(
+            order_by_contour(grid, &region, outer_only, members, pts, cell_of)
+                .map(|r| (r, closed_ring)),
+        )
     } else {
-        order_by_angle(grid, members, pts).map(|r| (r, false))
+        Ordering::Arc
     }
 }
 
@@ -802,10 +817,45 @@ fn order_by_contour(
     Some(representatives(keys, pts, grid.cell))
 }
 
-/// Orders by angle about the centre of the algebraic circle fit (falling
-/// back to the centroid), one bin per cell of arc at the mean radius.
-fn order_by_angle(grid: &Grid, members: &[usize], pts: &[Point2]) -> Option<Vec<usize>> {
-    let n = members.len() as Real;
+/// Angular bins of [`merge_arcs`]' coverage measure (5° each).
+const COVERAGE_BINS: usize = 72;
+
+/// Joins open arcs that are pieces of one loop broken by scanner holes.
+///
+/// Arcs `A` and `B` are joined when, about the centre `c` of the circle
+/// fitted to both: (1) they occupy disjoint angular ranges (overlap at most
+/// 15 % of the smaller's 5° bins); (2) together they cover at least 10°
+/// more than either covers about its own centre (two arcs of one loop
+/// complete each other; two separate parts seen from between them cover
+/// less than each does on its own); (3) at both junctions in angular order
+/// the radii agree within 25 % (a loop is continuous across a hole; a
+/// nearby part, e.g. an arm in the shadow it casts on the torso, lies at a
+/// different radius). The best pair (largest gain) is joined first, until
+/// no pair qualifies.
+fn merge_arcs(mut groups: Vec<Vec<usize>>, pts: &[Point2]) -> Vec<Vec<usize>> {
+    loop {
+        let mut best: Option<(usize, usize, usize)> = None;
+        for i in 0..groups.len() {
+            for j in i + 1..groups.len() {
+                if let Some(gain) = merge_gain(&groups[i], &groups[j], pts) {
+                    if best.is_none_or(|b| gain > b.2) {
+                        best = Some((i, j, gain));
+                    }
+                }
+            }
+        }
+        let Some((i, j, _)) = best else {
+            return groups;
+        };
+        let b = groups.swap_remove(j);
+        groups[i].extend(b);
+    }
+}
+
+/// The centre used to order an arc: its fitted circle's centre, or its
+/// centroid when the fit fails or lands far away.
+fn arc_centre(members: &[usize], pts: &[Point2]) -> Vec2 {
+    let n = members.len().max(1) as Real;
     let mean = members.iter().fold(Vec2::ZERO, |s, &m| s + pts[m]) / n;
     let rms = (members
         .iter()
@@ -813,10 +863,78 @@ fn order_by_angle(grid: &Grid, members: &[usize], pts: &[Point2]) -> Option<Vec<
         .sum::<Real>()
         / n)
         .sqrt();
-    let centre = circle_centre(members.iter().map(|&m| pts[m] - mean))
+    circle_centre(members.iter().map(|&m| pts[m] - mean))
         .map(|c| c + mean)
         .filter(|c| (*c - mean).norm() < 3.0 * rms)
-        .unwrap_or(mean);
+        .unwrap_or(mean)
+}
+
+fn angle_bin(d: Vec2) -> usize {
+    let a = d.y.atan2(d.x).rem_euclid(std::f64::consts::TAU);
+    ((a / std::f64::consts::TAU * COVERAGE_BINS as Real) as usize).min(COVERAGE_BINS - 1)
+}
+
+fn coverage(members: &[usize], pts: &[Point2], c: Vec2) -> [bool; COVERAGE_BINS] {
+    let mut bins = [false; COVERAGE_BINS];
+    for &m in members {
+        bins[angle_bin(pts[m] - c)] = true;
+    }
+    bins
+}
+
+fn merge_gain(a: &[usize], b: &[usize], pts: &[Point2]) -> Option<usize> {
+    let count = |bins: &[bool; COVERAGE_BINS]| bins.iter().filter(|&&x| x).count();
+    let own_a = count(&coverage(a, pts, arc_centre(a, pts)));
+    let own_b = count(&coverage(b, pts, arc_centre(b, pts)));
+    let union: Vec<usize> = a.iter().chain(b).copied().collect();
+    let c = arc_centre(&union, pts);
+    let (ca, cb) = (coverage(a, pts, c), coverage(b, pts, c));
+    let (na, nb) = (count(&ca), count(&cb));
+    let overlap = ca.iter().zip(&cb).filter(|(x, y)| **x && **y).count();
+    if overlap as Real > 0.15 * na.min(nb) as Real {
+        return None;
+    }
+    let merged = ca.iter().zip(&cb).filter(|(x, y)| **x || **y).count();
+    let gain = merged.checked_sub(own_a.max(own_b) + 2)?;
+    // Radii at the junctions, in angular order about c.
+    let mut polar: Vec<(Real, Real, bool)> = a
+        .iter()
+        .map(|&m| (m, true))
+        .chain(b.iter().map(|&m| (m, false)))
+        .map(|(m, in_a)| {
+            let d = pts[m] - c;
+            (d.y.atan2(d.x), d.norm(), in_a)
+        })
+        .collect();
+    polar.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let n = polar.len();
+    let junctions: Vec<usize> = (0..n)
+        .filter(|&k| polar[k].2 != polar[(k + 1) % n].2)
+        .collect();
+    if junctions.len() != 2 {
+        return None;
+    }
+    for &k in &junctions {
+        let side = |from: isize, dir: isize| {
+            let mut r: Vec<Real> = (0..5)
+                .map(|s| polar[(from + dir * s).rem_euclid(n as isize) as usize].1)
+                .collect();
+            r.sort_by(Real::total_cmp);
+            r[2]
+        };
+        let (r0, r1) = (side(k as isize, -1), side(k as isize + 1, 1));
+        if (r0 - r1).abs() > 0.25 * r0.max(r1) {
+            return None;
+        }
+    }
+    Some(gain)
+}
+
+/// Orders by angle about the centre of the algebraic circle fit (falling
+/// back to the centroid), one bin per cell of arc at the mean radius.
+fn order_by_angle(grid: &Grid, members: &[usize], pts: &[Point2]) -> Option<Vec<usize>> {
+    let n = members.len() as Real;
+    let centre = arc_centre(members, pts);
     let radius = members
         .iter()
         .map(|&m| (pts[m] - centre).norm())
@@ -969,7 +1087,7 @@ mod tests {
         assert!(l.closed_ring);
         assert!(angles_increase(l, c));
         for p in &l.outline.points {
-            assert!(pts.contains(p));
+            assert!(pts.iter().any(|q| q.x == p.x && q.y == p.y));
             assert!(p.z.abs() <= s.half_thickness);
             assert_near!((Vec2::new(p.x, p.y) - c).norm(), 0.1, 0.005);
         }
@@ -1117,6 +1235,92 @@ mod tests {
         assert_eq!(s.loops.len(), 1);
         assert!(angles_increase(&s.loops[0], Vec2::ZERO));
         assert_near!(s.loops[0].outline.area / (PI * 0.0025), 1.0, 0.15);
+    }
+
+    /// A ring broken into two arcs by two holes is joined into one loop;
+    /// two separate parts each missing their inner side (legs whose inner
+    /// thighs are unseen) stay two loops, and so does a torso with an arm
+    /// in its shadow.
+    #[test]
+    fn broken_rings_are_joined_and_separate_parts_are_not() {
+        let mut rng = Rng::new(11);
+        let mut pts = cylinder_cloud(
+            Vec2::ZERO,
+            0.1,
+            0.2,
+            0.2 + 0.4 * TAU,
+            12_000,
+            0.001,
+            &mut rng,
+        );
+        pts.extend(cylinder_cloud(
+            Vec2::ZERO,
+            0.1,
+            0.2 + 0.55 * TAU,
+            0.2 + 0.9 * TAU,
+            10_000,
+            0.001,
+            &mut rng,
+        ));
+        let cloud = PointCloud::new(pts).unwrap();
+        let s = CloudSlicer::new(&cloud, Vec3::Z)
+            .unwrap()
+            .section_at(0.0, &ScanSectionOptions::default())
+            .unwrap();
+        assert_eq!(s.loops.len(), 1);
+        assert!(angles_increase(&s.loops[0], Vec2::ZERO));
+
+        // legs: C-shapes open toward each other
+        let mut pts = cylinder_cloud(
+            Vec2::new(-0.1, 0.0),
+            0.07,
+            0.25 * PI,
+            1.75 * PI,
+            12_000,
+            0.001,
+            &mut rng,
+        );
+        pts.extend(cylinder_cloud(
+            Vec2::new(0.1, 0.0),
+            0.07,
+            -0.75 * PI,
+            0.75 * PI,
+            12_000,
+            0.001,
+            &mut rng,
+        ));
+        let cloud = PointCloud::new(pts).unwrap();
+        let s = CloudSlicer::new(&cloud, Vec3::Z)
+            .unwrap()
+            .section_at(0.0, &ScanSectionOptions::default())
+            .unwrap();
+        assert_eq!(s.loops.len(), 2);
+
+        // torso with a hole facing an arm
+        let mut pts = cylinder_cloud(
+            Vec2::ZERO,
+            0.15,
+            -0.8 * PI,
+            0.8 * PI,
+            20_000,
+            0.001,
+            &mut rng,
+        );
+        pts.extend(cylinder_cloud(
+            Vec2::new(-0.22, 0.0),
+            0.04,
+            0.0,
+            TAU,
+            6_000,
+            0.001,
+            &mut rng,
+        ));
+        let cloud = PointCloud::new(pts).unwrap();
+        let s = CloudSlicer::new(&cloud, Vec3::Z)
+            .unwrap()
+            .section_at(0.0, &ScanSectionOptions::default())
+            .unwrap();
+        assert_eq!(s.loops.len(), 2);
     }
 
     #[test]

@@ -74,7 +74,7 @@ fn bench(c: &mut Criterion) {
         mesh.triangles.len()
     );
     let opts = SectionOptions::default();
-    c.bench_function("80 mesh sections (slicer built once)", |b| {
+    c.bench_function("80 mesh sections (slicer built each run)", |b| {
         b.iter(|| {
             let slicer = MeshSlicer::new(black_box(&mesh), up, &opts).unwrap();
             black_box(slicer.sections_evenly(80))

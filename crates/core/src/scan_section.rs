@@ -330,7 +330,7 @@ impl<'c> CloudSlicer<'c> {
             }
         }
         let mut ordered: Vec<(Vec<usize>, bool, usize)> = Vec::new();
-        let mut arcs: Vec<Vec<usize>> = Vec::new();
+        let mut arcs: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
         for (comp, m) in members.iter().enumerate() {
             if m.len() < opts.min_component_points.max(3) {
                 continue;
@@ -338,7 +338,14 @@ impl<'c> CloudSlicer<'c> {
             match order_component(&grid, &labels, comp as u32, m, &pts, &cell_of) {
                 Ordering::Done(Some((reps, closed))) => ordered.push((reps, closed, m.len())),
                 Ordering::Done(None) => {}
-                Ordering::Arc => arcs.push(m.clone()),
+                Ordering::Arc => {
+                    // one point per occupied cell stands for the arc while
+                    // deciding which arcs to join
+                    let mut sample: Vec<usize> = m.clone();
+                    sample.sort_unstable_by_key(|&k| (cell_of[k], k));
+                    sample.dedup_by_key(|k| cell_of[*k]);
+                    arcs.push((sample, m.clone()));
+                }
             }
         }
         for group in merge_arcs(arcs, &pts) {
@@ -471,52 +478,49 @@ impl Grid {
         self.filter(&dil, r, false)
     }
 
-    /// Separable square max (`dilate`) or min filter.
+    /// Separable square max (`dilate`) or min filter of radius `r`, with
+    /// everything outside the image unset. Running window counts: a row
+    /// pass, then a column pass that slides one row of counts down the
+    /// image (cache friendly).
     fn filter(&self, img: &[bool], r: usize, dilate: bool) -> Vec<bool> {
         let (w, h) = (self.w, self.h);
+        let full = (2 * r + 1) as u32;
+        let decide = |count: u32| if dilate { count > 0 } else { count == full };
         let mut tmp = vec![false; w * h];
-        let mut out = vec![false; w * h];
-        // Running counts of set cells in the window; outside the image counts
-        // as unset.
         for y in 0..h {
             let row = &img[y * w..(y + 1) * w];
-            let mut count = 0usize;
-            for x in 0..(r.min(w)) {
-                count += usize::from(row[x]);
-            }
+            let out = &mut tmp[y * w..(y + 1) * w];
+            let mut count = row[..r.min(w)].iter().map(|&b| u32::from(b)).sum::<u32>();
             for x in 0..w {
                 if x + r < w {
-                    count += usize::from(row[x + r]);
+                    count += u32::from(row[x + r]);
                 }
                 if x > r {
-                    count -= usize::from(row[x - r - 1]);
+                    count -= u32::from(row[x - r - 1]);
                 }
-                let span = (x + r).min(w - 1) + 1 - x.saturating_sub(r);
-                tmp[y * w + x] = if dilate {
-                    count > 0
-                } else {
-                    count == span && span == 2 * r + 1
-                };
+                out[x] = decide(count);
             }
         }
-        for x in 0..w {
-            let mut count = 0usize;
-            for y in 0..(r.min(h)) {
-                count += usize::from(tmp[y * w + x]);
+        let mut counts = vec![0u32; w];
+        for y in 0..r.min(h) {
+            for (c, &b) in counts.iter_mut().zip(&tmp[y * w..(y + 1) * w]) {
+                *c += u32::from(b);
             }
-            for y in 0..h {
-                if y + r < h {
-                    count += usize::from(tmp[(y + r) * w + x]);
+        }
+        let mut out = vec![false; w * h];
+        for y in 0..h {
+            if y + r < h {
+                for (c, &b) in counts.iter_mut().zip(&tmp[(y + r) * w..(y + r + 1) * w]) {
+                    *c += u32::from(b);
                 }
-                if y > r {
-                    count -= usize::from(tmp[(y - r - 1) * w + x]);
+            }
+            if y > r {
+                for (c, &b) in counts.iter_mut().zip(&tmp[(y - r - 1) * w..(y - r) * w]) {
+                    *c -= u32::from(b);
                 }
-                let span = (y + r).min(h - 1) + 1 - y.saturating_sub(r);
-                out[y * w + x] = if dilate {
-                    count > 0
-                } else {
-                    count == span && span == 2 * r + 1
-                };
+            }
+            for (o, &c) in out[y * w..(y + 1) * w].iter_mut().zip(&counts) {
+                *o = decide(c);
             }
         }
         out
@@ -878,7 +882,10 @@ const COVERAGE_BINS: usize = 72;
 /// nearby part, e.g. an arm in the shadow it casts on the torso, lies at a
 /// different radius). The best pair (largest gain) is joined first, until
 /// no pair qualifies.
-fn merge_arcs(mut groups: Vec<Vec<usize>>, pts: &[Point2]) -> Vec<Vec<usize>> {
+///
+/// Each arc is given as (a sample of its points for the decision, all its
+/// points); the joined point lists are returned.
+fn merge_arcs(mut groups: Vec<(Vec<usize>, Vec<usize>)>, pts: &[Point2]) -> Vec<Vec<usize>> {
     let own = |g: &[usize]| {
         let c = arc_centre(g, pts);
         coverage(g.iter().map(|&m| pts[m] - c))
@@ -886,13 +893,13 @@ fn merge_arcs(mut groups: Vec<Vec<usize>>, pts: &[Point2]) -> Vec<Vec<usize>> {
             .filter(|&&x| x)
             .count()
     };
-    let mut covered: Vec<usize> = groups.iter().map(|g| own(g)).collect();
+    let mut covered: Vec<usize> = groups.iter().map(|g| own(&g.0)).collect();
     loop {
         let mut best: Option<(usize, usize, usize)> = None;
         for i in 0..groups.len() {
             for j in i + 1..groups.len() {
                 let floor = covered[i].max(covered[j]);
-                if let Some(gain) = merge_gain(&groups[i], &groups[j], floor, pts) {
+                if let Some(gain) = merge_gain(&groups[i].0, &groups[j].0, floor, pts) {
                     if best.is_none_or(|b| gain > b.2) {
                         best = Some((i, j, gain));
                     }
@@ -900,12 +907,13 @@ fn merge_arcs(mut groups: Vec<Vec<usize>>, pts: &[Point2]) -> Vec<Vec<usize>> {
             }
         }
         let Some((i, j, _)) = best else {
-            return groups;
+            return groups.into_iter().map(|g| g.1).collect();
         };
         let b = groups.swap_remove(j);
         covered.swap_remove(j);
-        groups[i].extend(b);
-        covered[i] = own(&groups[i]);
+        groups[i].0.extend(b.0);
+        groups[i].1.extend(b.1);
+        covered[i] = own(&groups[i].0);
     }
 }
 
@@ -1413,6 +1421,23 @@ mod tests {
             .section_at(0.0, &ScanSectionOptions::default())
             .unwrap();
         assert_eq!(s.loops.len(), 2);
+    }
+
+    /// Closing fills gaps up to 2r cells and keeps the outside unset.
+    #[test]
+    fn closing_bridges_small_gaps_only() {
+        let g = Grid::new(Vec2::ZERO, 1.0, 20, 5);
+        let mut img = vec![false; 100];
+        for x in [3, 4, 5, 8, 9, 15, 16] {
+            img[2 * 20 + x] = true;
+        }
+        let c = g.close(&img, 1);
+        let row: Vec<bool> = (0..20).map(|x| c[2 * 20 + x]).collect();
+        // the 2-cell gap (6, 7) closes, the 5-cell gap (10..=14) does not
+        assert!(row[3..=9].iter().all(|&b| b));
+        assert!(row[10..=14].iter().all(|&b| !b));
+        assert!(row[15] && row[16] && !row[17] && !row[2]);
+        assert!(c[20 + 5..20 + 8].iter().all(|&b| !b));
     }
 
     #[test]

@@ -186,12 +186,9 @@ fn scan_versus_mesh(name: &str, m: &Mesh, cloud: &PointCloud) {
             let sl = &scan.loops[i];
             assert!(sl.outline.contains(l.centroid) || sl.outline.distance(l.centroid) < 0.02);
             let (rms, order) = fitted_rms(&l.points, &sl.outline.points);
-            // Torso at chest/waist/hip, legs below: the loops the method
-            // builds from horizontal cuts. The 45° forearms at the waist
-            // (cut obliquely, their inner side shadowed by the torso) are
-            // held to a looser bound.
+            // Every loop, the forearms cut obliquely at the waist included.
             let is_arm = *expected == 3 && l.area < largest;
-            let bound = if is_arm { 0.005 } else { 0.002 };
+            let bound = 0.002;
             println!(
                 "  {level:5} {:5} J={order:2} rms {:.2} mm  (widest gap {:.0} mm, {} points, ring {})",
                 if is_arm { "arm" } else { "main" },

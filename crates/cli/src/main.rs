@@ -6,6 +6,8 @@
 
 mod cmd_fit;
 mod cmd_render;
+mod cmd_scan;
+mod cmd_sections;
 mod examples;
 mod exit;
 
@@ -29,6 +31,10 @@ enum Command {
     Examples(examples::ExamplesArgs),
     /// Draw a mesh shaded from several views side by side (PNG).
     Render(cmd_render::RenderArgs),
+    /// Cut a mesh or a scan with parallel planes and fit every loop.
+    Sections(cmd_sections::SectionsArgs),
+    /// Make a virtual multi-view scan (points with normals) of a mesh.
+    Scan(cmd_scan::ScanArgs),
 }
 
 fn main() -> ExitCode {
@@ -44,6 +50,8 @@ fn main() -> ExitCode {
         Command::Fit(args) => cmd_fit::run(args),
         Command::Examples(args) => examples::run(args),
         Command::Render(args) => cmd_render::run(args),
+        Command::Sections(args) => cmd_sections::run(args),
+        Command::Scan(args) => cmd_scan::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

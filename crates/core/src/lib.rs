@@ -23,7 +23,11 @@ pub mod lsq;
 pub mod math;
 pub mod mesh;
 pub mod order;
+pub mod scan_section;
+pub mod scanner;
+pub mod section;
 pub mod series;
+pub mod shapes;
 
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use ellipse::EllipseFit;

@@ -1,0 +1,1712 @@
+//! Segmentation of a standing body (A-pose) into torso, head with neck, two
+//! arms with hands, two legs and two feet (method.md §8.1-§8.4), for a
+//! triangle mesh or a scanned point cloud alike.
+//!
+//! # The algorithm
+//!
+//! Nothing below knows a coordinate, a size or a vertex order of any
+//! particular body: every length is a fraction of the body's own height `H`
+//! (its extent along the up axis), every area a fraction of the largest
+//! section area.
+//!
+//! 1. **Up axis.** [`SegmentOptions::up`] if given, else the principal axis
+//!    of the points with the largest variance. It must be distinct: when the
+//!    largest variance is less than [`SegmentOptions::min_axis_ratio`] times
+//!    the second (a sphere, a cube) there is no long axis and the result is
+//!    [`SegmentError::NoUpAxis`].
+//! 2. **Slices.** The body is cut by [`SegmentOptions::slices`] planes
+//!    normal to the axis, evenly spread over its extent (mesh: plane
+//!    sections through [`MeshSlicer`]; cloud: slab sections through
+//!    [`CloudSlicer`]; both sort the input by height once). Loops whose area
+//!    is below [`SegmentOptions::min_loop_area`] times the largest loop of
+//!    all slices are dropped (fingers, noise, the grazing cut at either end).
+//! 3. **Sign of the axis** (only when the axis came from the principal
+//!    axes). The feet end is the end whose slices have two loops (two feet);
+//!    the head end has one. Over the outer 2-9 % of the extent at either
+//!    end, the share of slices with two or more loops is measured; the end
+//!    with the clearly larger share is the bottom. When neither end has two
+//!    feet the result is [`SegmentError::NotAStandingBody`].
+//! 4. **Slice graph.** Loops of neighbouring slices are linked when they
+//!    overlap: the centroid of one lies inside the other, or the centroids
+//!    are closer than half the sum of the loops' equivalent radii
+//!    `r = √(A/π)`. A loop without a link to the next slice may link to the
+//!    slice after it (a scan slab that lost a loop). Maximal chains of
+//!    one-to-one links are *segments*; a segment's *parents* are the
+//!    segments linked below its first loop, its *children* those above its
+//!    last. Short dead ends (spurs shorter than
+//!    [`SegmentOptions::min_branch`] × `H`: a thumb, a noise blob, a scan
+//!    loop that split for a few slices) and the smaller side of short
+//!    bubbles (a ring that split in two and joined again) are removed, and
+//!    the segments rebuilt, until nothing changes.
+//! 5. **Parts.** The *legs* are the two segments without parents that start
+//!    in the lowest tenth of the height; each is followed up through
+//!    one-to-one continuations to the segment where it merges: both must
+//!    merge into the same one, and its first loop is the **crotch**. The
+//!    *trunk path* runs up from there, taking the child of largest area at
+//!    any split, to a segment without children: the **head top**. The
+//!    *arms* are the other segments without parents, at least a tenth of the
+//!    height long, whose chain merges into the trunk path above the crotch;
+//!    the merge is the **armpit**, and the side (left or right) is the sign
+//!    of the arm's offset from the trunk along `left`. A missing arm is a
+//!    warning and a partial model; missing legs or a missing crotch are
+//!    errors naming what was not found.
+//! 6. **Front** ([`SegmentOptions::front`] if given): the feet point
+//!    forward, so the area centroid of the slices 1-3 % of `H` above the
+//!    soles lies in front of the centroid of the slices 6-9 % above them.
+//!    The horizontal part of that offset is the front; `left = up × front`.
+//! 7. **Landmarks on branches.** The **neck** is the smallest convex-hull
+//!    girth of the trunk path between the widest slice of the head and the
+//!    highest armpit. The **ankle** is the smallest hull girth of a leg
+//!    between the sole and the widest slice of the calf. The **wrist** is
+//!    found on cuts *perpendicular* to the arm's axis (horizontal cuts of an
+//!    arm at 45° are skewed): walking up the arm from the hand, the widest
+//!    cut of the hand comes first, then the narrowest cut of the forearm
+//!    below the elbow is the wrist.
+//! 8. **Axes.** Each part's axis is the polyline of its loops' area
+//!    centroids, smoothed by a moving average over
+//!    [`SegmentOptions::axis_smoothing`] × `H` and resampled evenly by arc
+//!    length, oriented as method.md §2 asks (up for torso and head, away
+//!    from the trunk for limbs). Feet get a straight axis from heel to toe:
+//!    the principal horizontal direction of the foot's slices below the
+//!    ankle, oriented to the front, at a third of the ankle height.
+//!    [`cut_part`] cuts a part again with the plane perpendicular to its
+//!    axis at a given arc-length fraction and returns the part's loop.
+//!
+//! Heights in the results are measured from the soles along `up`; the
+//! landmarks carry their height as a fraction of `H`. Units are the input's
+//! (nothing assumes metres).
+//!
+//! T-pose arms (horizontal, merging into the shoulders) do not branch in
+//! horizontal slices; they are reported as not found (a warning naming
+//! them), not guessed.
+
+use crate::linalg::symmetric_eigen3;
+use crate::math::{Point2, Point3, Real, Vec2, Vec3};
+use crate::mesh::{Mesh, MeshError, PointCloud};
+use crate::scan_section::{CloudSlicer, ScanSectionError, ScanSectionOptions};
+use crate::section::{
+    point_in_polygon, section_mesh, MeshSlicer, Plane, SectionError, SectionLoop, SectionOptions,
+};
+use std::fmt;
+use thiserror::Error;
+
+/// The geometry to segment: a surface or a cloud of scanned points.
+#[derive(Clone, Copy, Debug)]
+pub enum BodyGeometry<'a> {
+    Mesh(&'a Mesh),
+    Cloud(&'a PointCloud),
+}
+
+impl BodyGeometry<'_> {
+    /// The vertices or points.
+    pub fn positions(&self) -> &[Point3] {
+        match self {
+            BodyGeometry::Mesh(m) => &m.positions,
+            BodyGeometry::Cloud(c) => &c.positions,
+        }
+    }
+}
+
+/// Options of [`segment`]. Lengths are fractions of the body's height `H`,
+/// areas fractions of the largest section area, so nothing depends on units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SegmentOptions {
+    /// The up direction (head above feet); `None` finds it (principal axis,
+    /// sign from the feet). Default `None`.
+    pub up: Option<Vec3>,
+    /// The direction the body faces; `None` finds it from the feet.
+    /// Default `None`.
+    pub front: Option<Vec3>,
+    /// Number of slices over the height (spacing `H / slices`). Default 400
+    /// (about 4 mm on a 1.7 m body).
+    pub slices: usize,
+    /// Loops smaller than this fraction of the largest loop are dropped.
+    /// Default 0.008 (fingers and noise go, wrists stay).
+    pub min_loop_area: Real,
+    /// Dead-end branches shorter than this fraction of `H` are spurs and
+    /// removed. Default 0.025.
+    pub min_branch: Real,
+    /// An arm must be at least this fraction of `H` long. Default 0.1.
+    pub min_arm: Real,
+    /// Half-width of the moving average that smooths part axes, as a
+    /// fraction of `H`. Default 0.015.
+    pub axis_smoothing: Real,
+    /// The largest principal variance must exceed the second by this factor
+    /// for the principal axis to be the up axis. Default 1.5.
+    pub min_axis_ratio: Real,
+    /// Plane-section options for meshes.
+    pub section: SectionOptions,
+    /// Slab-section options for clouds.
+    pub scan: ScanSectionOptions,
+}
+
+impl Default for SegmentOptions {
+    fn default() -> Self {
+        SegmentOptions {
+            up: None,
+            front: None,
+            slices: 400,
+            min_loop_area: 0.008,
+            min_branch: 0.025,
+            min_arm: 0.1,
+            axis_smoothing: 0.015,
+            min_axis_ratio: 1.5,
+            section: SectionOptions::default(),
+            scan: ScanSectionOptions::default(),
+        }
+    }
+}
+
+/// What went wrong in [`segment`] or [`cut_part`].
+#[derive(Debug, Error, PartialEq)]
+pub enum SegmentError {
+    #[error("invalid input: {0}")]
+    Input(#[from] MeshError),
+    #[error("bad option {name}: {why}")]
+    BadOption {
+        name: &'static str,
+        why: &'static str,
+    },
+    #[error("no up axis: the largest principal variance is only {ratio:.2} times the second (at least {needed} is needed for a standing body); the shape has no long axis — pass the up axis as an option")]
+    NoUpAxis { ratio: Real, needed: Real },
+    #[error("not a standing body: {what} not found ({why})")]
+    NotAStandingBody { what: &'static str, why: String },
+    #[error("section failed: {0}")]
+    Section(#[from] SectionError),
+    #[error("scan section failed: {0}")]
+    ScanSection(#[from] ScanSectionError),
+    #[error("the part {0} is not in this segmentation")]
+    NoSuchPart(PartName),
+    #[error("the plane perpendicular to {part} at {at} meets no loop of the part")]
+    EmptyCut { part: PartName, at: Real },
+}
+
+/// The body's own frame: orthonormal, right-handed (`left = up × front`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyFrame {
+    pub up: Vec3,
+    pub front: Vec3,
+    pub left: Vec3,
+    /// The point on the floor (the soles' plane) below the crotch.
+    pub origin: Point3,
+}
+
+/// The named places [`segment`] finds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum LandmarkKind {
+    HeadTop,
+    Neck,
+    LeftArmpit,
+    RightArmpit,
+    Crotch,
+    LeftWrist,
+    RightWrist,
+    LeftHandTip,
+    RightHandTip,
+    LeftAnkle,
+    RightAnkle,
+    LeftSole,
+    RightSole,
+    LeftHeel,
+    RightHeel,
+    LeftToe,
+    RightToe,
+}
+
+impl fmt::Display for LandmarkKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self, f)
+    }
+}
+
+/// A landmark: where, how high, and how it was found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Landmark {
+    pub kind: LandmarkKind,
+    pub position: Point3,
+    /// Height above the soles along `up`, as a fraction of `H`.
+    pub height_fraction: Real,
+    /// 0..1: how clear the evidence was (1: a graph junction or an end;
+    /// for girth minima, the relative depth of the minimum).
+    pub confidence: Real,
+    /// How it was found, in words.
+    pub how: &'static str,
+}
+
+/// The parts of a body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PartName {
+    Torso,
+    Head,
+    LeftArm,
+    RightArm,
+    LeftLeg,
+    RightLeg,
+    LeftFoot,
+    RightFoot,
+}
+
+impl fmt::Display for PartName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = match self {
+            PartName::Torso => "torso",
+            PartName::Head => "head",
+            PartName::LeftArm => "left arm",
+            PartName::RightArm => "right arm",
+            PartName::LeftLeg => "left leg",
+            PartName::RightLeg => "right leg",
+            PartName::LeftFoot => "left foot",
+            PartName::RightFoot => "right foot",
+        };
+        f.write_str(s)
+    }
+}
+
+/// A part and its axis.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartAxis {
+    pub name: PartName,
+    /// The smoothed axis, evenly spaced by arc length, from the proximal end
+    /// (`start`) to the distal end (`end`); for torso and head upward.
+    pub points: Vec<Point3>,
+    /// Equivalent radius `√(A/π)` of the part's loops near each axis point
+    /// (from the slices that built the axis).
+    pub radii: Vec<Real>,
+    pub start: LandmarkKind,
+    pub end: LandmarkKind,
+}
+
+impl PartAxis {
+    /// Length of the axis polyline.
+    pub fn length(&self) -> Real {
+        self.points.windows(2).map(|w| w[0].distance(w[1])).sum()
+    }
+
+    /// The point and unit tangent at arc-length fraction `t ∈ [0, 1]`
+    /// (clamped). `None` for an axis with fewer than two distinct points.
+    pub fn point_and_tangent(&self, t: Real) -> Option<(Point3, Vec3)> {
+        let n = self.points.len();
+        if n < 2 {
+            return None;
+        }
+        let total = self.length();
+        if total.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return None;
+        }
+        let target = t.clamp(0.0, 1.0) * total;
+        let mut acc = 0.0;
+        for k in 0..n - 1 {
+            let d = self.points[k].distance(self.points[k + 1]);
+            if acc + d >= target || k == n - 2 {
+                let u = if d > 0.0 {
+                    ((target - acc) / d).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                let p = self.points[k] + (self.points[k + 1] - self.points[k]) * u;
+                // Tangent: central difference over the neighbouring segments.
+                let a = self.points[k.saturating_sub(1)];
+                let b = self.points[(k + 2).min(n - 1)];
+                let tan = (b - a)
+                    .normalized()
+                    .or_else(|| (self.points[k + 1] - self.points[k]).normalized())?;
+                return Some((p, tan));
+            }
+            acc += d;
+        }
+        None
+    }
+
+    /// The largest equivalent radius along the part.
+    pub fn max_radius(&self) -> Real {
+        self.radii.iter().copied().fold(0.0, Real::max)
+    }
+}
+
+/// The result of [`segment`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Segmentation {
+    pub frame: BodyFrame,
+    /// The body's extent along `up` (soles to head top), in input units.
+    pub height: Real,
+    /// Spacing of the slices used.
+    pub slice_spacing: Real,
+    /// The scan's estimated point spacing (clouds only).
+    pub point_spacing: Option<Real>,
+    pub landmarks: Vec<Landmark>,
+    pub parts: Vec<PartAxis>,
+    /// What was not found or is doubtful (a missing arm, a weak front).
+    pub warnings: Vec<String>,
+}
+
+impl Segmentation {
+    /// The landmark of a kind, when found.
+    pub fn landmark(&self, kind: LandmarkKind) -> Option<&Landmark> {
+        self.landmarks.iter().find(|l| l.kind == kind)
+    }
+
+    /// The part of a name, when found.
+    pub fn part(&self, name: PartName) -> Option<&PartAxis> {
+        self.parts.iter().find(|p| p.name == name)
+    }
+}
+
+/// One plane section cut by [`cut_part`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartCut {
+    pub plane: Plane,
+    /// The part's loop in that plane (for clouds: the slab outline).
+    pub outline: SectionLoop,
+    /// For clouds, the index in the cloud of each outline point.
+    pub scan_indices: Option<Vec<usize>>,
+}
+
+// ---------------------------------------------------------------------------
+// Slicing along one axis, for meshes and clouds alike.
+
+/// Sections normal to one axis, from a mesh or a cloud.
+enum AxisSlicer<'a> {
+    Mesh(MeshSlicer<'a>),
+    Cloud(CloudSlicer<'a>, ScanSectionOptions),
+}
+
+impl<'a> AxisSlicer<'a> {
+    fn new(
+        body: BodyGeometry<'a>,
+        axis: Vec3,
+        opts: &SegmentOptions,
+    ) -> Result<AxisSlicer<'a>, SegmentError> {
+        Ok(match body {
+            BodyGeometry::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, axis, &opts.section)?),
+            BodyGeometry::Cloud(c) => AxisSlicer::Cloud(CloudSlicer::new(c, axis)?, opts.scan),
+        })
+    }
+
+    fn range(&self) -> (Real, Real) {
+        match self {
+            AxisSlicer::Mesh(s) => s.range(),
+            AxisSlicer::Cloud(s, _) => s.range(),
+        }
+    }
+
+    fn spacing(&self) -> Option<Real> {
+        match self {
+            AxisSlicer::Mesh(_) => None,
+            AxisSlicer::Cloud(s, _) => Some(s.spacing()),
+        }
+    }
+
+    /// The closed loops at `offset`; none where the plane misses or the
+    /// slab is too thin (the very ends).
+    fn loops_at(&self, offset: Real) -> Vec<SectionLoop> {
+        match self {
+            AxisSlicer::Mesh(s) => s.section_at(offset).map(|s| s.loops).unwrap_or_default(),
+            AxisSlicer::Cloud(s, o) => s
+                .section_at(offset, o)
+                .map(|s| s.loops.into_iter().map(|l| l.outline).collect())
+                .unwrap_or_default(),
+        }
+    }
+}
+
+/// A loop of the slice graph, in the slices' common plane coordinates.
+#[derive(Clone, Debug)]
+struct Node {
+    slice: usize,
+    centroid: Point3,
+    c2: Point2,
+    area: Real,
+    radius: Real,
+    hull_girth: Real,
+    poly: Vec<Point2>,
+    lo: Point2,
+    hi: Point2,
+    active: bool,
+}
+
+impl Node {
+    fn new(slice: usize, l: &SectionLoop, e1: Vec3, e2: Vec3) -> Node {
+        let poly: Vec<Point2> = l
+            .points
+            .iter()
+            .map(|&p| Vec2::new(p.dot(e1), p.dot(e2)))
+            .collect();
+        let (mut lo, mut hi) = (
+            Vec2::new(Real::INFINITY, Real::INFINITY),
+            Vec2::new(Real::NEG_INFINITY, Real::NEG_INFINITY),
+        );
+        for p in &poly {
+            lo = Vec2::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = Vec2::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+        Node {
+            slice,
+            centroid: l.centroid,
+            c2: Vec2::new(l.centroid.dot(e1), l.centroid.dot(e2)),
+            area: l.area,
+            radius: (l.area / std::f64::consts::PI).sqrt(),
+            hull_girth: hull_perimeter(&poly),
+            poly,
+            lo,
+            hi,
+            active: true,
+        }
+    }
+
+    fn overlaps(&self, o: &Node) -> bool {
+        if self.hi.x < o.lo.x || o.hi.x < self.lo.x || self.hi.y < o.lo.y || o.hi.y < self.lo.y {
+            return false;
+        }
+        (self.c2 - o.c2).norm() < 0.5 * (self.radius + o.radius)
+            || point_in_polygon(self.c2, &o.poly)
+            || point_in_polygon(o.c2, &self.poly)
+    }
+}
+
+/// Perimeter of the convex hull of `p` (Andrew's monotone chain): a girth
+/// that ignores concavities, gaps between fingers and scan noise.
+fn hull_perimeter(p: &[Point2]) -> Real {
+    let mut pts: Vec<Point2> = p.to_vec();
+    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    pts.dedup();
+    if pts.len() < 3 {
+        return 0.0;
+    }
+    let mut hull: Vec<Point2> = Vec::with_capacity(pts.len() + 1);
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &Point2>> = if pass == 0 {
+            Box::new(pts.iter())
+        } else {
+            Box::new(pts.iter().rev())
+        };
+        for &q in iter {
+            while hull.len() >= start + 2 {
+                let a = hull[hull.len() - 2];
+                let b = hull[hull.len() - 1];
+                if (b - a).cross(q - a) <= 0.0 {
+                    hull.pop();
+                } else {
+                    break;
+                }
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+    (0..hull.len())
+        .map(|i| (hull[(i + 1) % hull.len()] - hull[i]).norm())
+        .sum()
+}
+
+/// The slice graph: nodes, links, and segments (maximal one-to-one chains).
+struct Graph {
+    nodes: Vec<Node>,
+    /// Per node: linked nodes above / below.
+    up: Vec<Vec<usize>>,
+    down: Vec<Vec<usize>>,
+    segments: Vec<Segment>,
+    seg_of: Vec<usize>,
+}
+
+#[derive(Clone, Debug, Default)]
+struct Segment {
+    nodes: Vec<usize>,
+    parents: Vec<usize>,
+    children: Vec<usize>,
+}
+
+const NO_SEG: usize = usize::MAX;
+
+impl Graph {
+    /// `slices[k]` are the node ids of slice `k`, bottom to top.
+    fn new(nodes: Vec<Node>, slices: &[Vec<usize>]) -> Graph {
+        let n = nodes.len();
+        let mut g = Graph {
+            nodes,
+            up: vec![Vec::new(); n],
+            down: vec![Vec::new(); n],
+            segments: Vec::new(),
+            seg_of: vec![NO_SEG; n],
+        };
+        for k in 0..slices.len().saturating_sub(1) {
+            for &a in &slices[k] {
+                for &b in &slices[k + 1] {
+                    if g.nodes[a].overlaps(&g.nodes[b]) {
+                        g.up[a].push(b);
+                        g.down[b].push(a);
+                    }
+                }
+            }
+        }
+        // Bridge one missing slice.
+        for k in 0..slices.len().saturating_sub(2) {
+            for &a in &slices[k] {
+                if !g.up[a].is_empty() {
+                    continue;
+                }
+                for &b in &slices[k + 2] {
+                    if g.down[b].is_empty() && g.nodes[a].overlaps(&g.nodes[b]) {
+                        g.up[a].push(b);
+                        g.down[b].push(a);
+                    }
+                }
+            }
+        }
+        g
+    }
+
+    fn active_up(&self, a: usize) -> Vec<usize> {
+        self.up[a]
+            .iter()
+            .copied()
+            .filter(|&b| self.nodes[b].active)
+            .collect()
+    }
+
+    fn active_down(&self, a: usize) -> Vec<usize> {
+        self.down[a]
+            .iter()
+            .copied()
+            .filter(|&b| self.nodes[b].active)
+            .collect()
+    }
+
+    /// Rebuilds the segments from the active nodes (nodes are stored in
+    /// slice order, so a single pass sees every node after those below it).
+    fn build_segments(&mut self) {
+        self.segments.clear();
+        self.seg_of.iter_mut().for_each(|s| *s = NO_SEG);
+        for a in 0..self.nodes.len() {
+            if !self.nodes[a].active {
+                continue;
+            }
+            let down = self.active_down(a);
+            let cont = if down.len() == 1 && self.active_up(down[0]).len() == 1 {
+                Some(self.seg_of[down[0]])
+            } else {
+                None
+            };
+            match cont {
+                Some(s) if s != NO_SEG => {
+                    self.segments[s].nodes.push(a);
+                    self.seg_of[a] = s;
+                }
+                _ => {
+                    self.segments.push(Segment {
+                        nodes: vec![a],
+                        ..Default::default()
+                    });
+                    self.seg_of[a] = self.segments.len() - 1;
+                }
+            }
+        }
+        for s in 0..self.segments.len() {
+            let first = self.segments[s].nodes[0];
+            let mut parents: Vec<usize> = self
+                .active_down(first)
+                .iter()
+                .map(|&b| self.seg_of[b])
+                .collect();
+            parents.sort_unstable();
+            parents.dedup();
+            for &p in &parents {
+                self.segments[p].children.push(s);
+            }
+            self.segments[s].parents = parents;
+        }
+        for s in &mut self.segments {
+            s.children.sort_unstable();
+            s.children.dedup();
+        }
+    }
+
+    fn span(&self, s: usize) -> usize {
+        let seg = &self.segments[s];
+        let a = self.nodes[seg.nodes[0]].slice;
+        let b = self.nodes[seg.nodes[seg.nodes.len() - 1]].slice;
+        b - a + 1
+    }
+
+    fn mean_area(&self, s: usize) -> Real {
+        let seg = &self.segments[s];
+        seg.nodes.iter().map(|&a| self.nodes[a].area).sum::<Real>() / seg.nodes.len() as Real
+    }
+
+    /// Removes spurs, isolated scraps and the smaller side of bubbles
+    /// shorter than `min_span` slices; repeats until stable.
+    fn prune(&mut self, min_span: usize) {
+        for _round in 0..50 {
+            self.build_segments();
+            let mut remove: Vec<usize> = Vec::new();
+            for s in 0..self.segments.len() {
+                let seg = &self.segments[s];
+                let short = self.span(s) < min_span;
+                if !short {
+                    continue;
+                }
+                let leaf = seg.parents.is_empty() || seg.children.is_empty();
+                if leaf {
+                    remove.push(s);
+                    continue;
+                }
+                // Bubble: a sibling with the same single parent and child.
+                if seg.parents.len() == 1 && seg.children.len() == 1 {
+                    let (p, c) = (seg.parents[0], seg.children[0]);
+                    let sibling = self.segments[p].children.iter().copied().find(|&o| {
+                        o != s
+                            && self.segments[o].parents == [p]
+                            && self.segments[o].children == [c]
+                    });
+                    if let Some(o) = sibling {
+                        let (ma, mb) = (self.mean_area(s), self.mean_area(o));
+                        if ma < mb || (ma == mb && s > o) {
+                            remove.push(s);
+                        }
+                    }
+                }
+            }
+            if remove.is_empty() {
+                return;
+            }
+            for s in remove {
+                for &a in &self.segments[s].nodes {
+                    self.nodes[a].active = false;
+                }
+            }
+        }
+        self.build_segments();
+    }
+
+    /// Follows single continuations upward from segment `s` until the chain
+    /// reaches a segment with several parents (a merge) or ends. Returns
+    /// the chain's segments and the merge segment.
+    fn chain_up(&self, s: usize) -> (Vec<usize>, Option<usize>) {
+        let mut chain = vec![s];
+        let mut cur = s;
+        loop {
+            let children = &self.segments[cur].children;
+            if children.len() != 1 {
+                return (chain, None);
+            }
+            let c = children[0];
+            if self.segments[c].parents.len() > 1 {
+                return (chain, Some(c));
+            }
+            if chain.contains(&c) {
+                return (chain, None);
+            }
+            chain.push(c);
+            cur = c;
+        }
+    }
+
+    fn chain_nodes(&self, chain: &[usize]) -> Vec<usize> {
+        chain
+            .iter()
+            .flat_map(|&s| self.segments[s].nodes.iter().copied())
+            .collect()
+    }
+}
+
+// ---------------------------------------------------------------------------
+
+/// Segments a standing body (see the module docs for the algorithm).
+///
+/// ```
+/// use trigbody_core::segment::{segment, BodyGeometry, SegmentError, SegmentOptions};
+/// use trigbody_core::{shapes, Vec3};
+/// // A sphere has no long axis: a clear error, not a body.
+/// let ball = shapes::uv_sphere(Vec3::ZERO, 1.0, 32, 64);
+/// let err = segment(BodyGeometry::Mesh(&ball), &SegmentOptions::default()).unwrap_err();
+/// assert!(matches!(err, SegmentError::NoUpAxis { .. }));
+/// ```
+pub fn segment(
+    body: BodyGeometry<'_>,
+    opts: &SegmentOptions,
+) -> Result<Segmentation, SegmentError> {
+    check_options(opts)?;
+    let positions = body.positions();
+    match body {
+        BodyGeometry::Mesh(m) => m.validate()?,
+        BodyGeometry::Cloud(c) => c.validate()?,
+    }
+    if positions.is_empty() {
+        return Err(MeshError::NoVertices.into());
+    }
+    let mut warnings = Vec::new();
+
+    // 1. Axis.
+    let (axis, axis_given) = match opts.up {
+        Some(u) => (
+            u.normalized().ok_or(SegmentError::BadOption {
+                name: "up",
+                why: "must be a finite non-zero vector",
+            })?,
+            true,
+        ),
+        None => (principal_axis(positions, opts.min_axis_ratio)?, false),
+    };
+
+    // 2. Slices.
+    let slicer = AxisSlicer::new(body, axis, opts)?;
+    let (min, max) = slicer.range();
+    let extent = max - min;
+    if extent.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return Err(SegmentError::NotAStandingBody {
+            what: "a body",
+            why: "the input has no extent along the up axis".into(),
+        });
+    }
+    let n = opts.slices;
+    let step = extent / n as Real;
+    let mut raw: Vec<(Real, Vec<SectionLoop>)> = (0..n)
+        .map(|k| {
+            let off = min + (k as Real + 0.5) * step;
+            (off, slicer.loops_at(off))
+        })
+        .collect();
+    let largest = raw
+        .iter()
+        .flat_map(|(_, l)| l.iter().map(|l| l.area))
+        .fold(0.0, Real::max);
+    if largest.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return Err(SegmentError::NotAStandingBody {
+            what: "a body",
+            why: "no slice has a closed loop".into(),
+        });
+    }
+    for (_, loops) in &mut raw {
+        loops.retain(|l| l.area >= opts.min_loop_area * largest);
+    }
+
+    // 3. Sign.
+    let up = if axis_given {
+        axis
+    } else {
+        let share = |range: std::ops::Range<Real>| {
+            let (mut multi, mut total) = (0usize, 0usize);
+            for k in 0..n {
+                let f = (k as Real + 0.5) / n as Real;
+                if range.contains(&f) && !raw[k].1.is_empty() {
+                    total += 1;
+                    multi += usize::from(raw[k].1.len() >= 2);
+                }
+            }
+            multi as Real / total.max(1) as Real
+        };
+        let low = share(0.02..0.09);
+        let high = share(0.91..0.98);
+        if low >= high + 0.5 {
+            axis
+        } else if high >= low + 0.5 {
+            raw.reverse();
+            -axis
+        } else {
+            return Err(SegmentError::NotAStandingBody {
+                what: "two feet at either end of the longest axis",
+                why: format!(
+                    "slices with two or more loops: {:.0} % near one end, {:.0} % near the other",
+                    100.0 * low,
+                    100.0 * high
+                ),
+            });
+        }
+    };
+    // Heights above the soles: slice k sits at (k + ½) step.
+    let height_of = |slice: usize| (slice as Real + 0.5) * step;
+    let (e1, e2) = {
+        let e1 = up.any_perpendicular();
+        (e1, up.cross(e1))
+    };
+
+    // 4. Graph.
+    let mut nodes = Vec::new();
+    let mut slice_nodes: Vec<Vec<usize>> = Vec::with_capacity(n);
+    for (k, (_, loops)) in raw.iter().enumerate() {
+        let mut ids = Vec::new();
+        for l in loops {
+            nodes.push(Node::new(k, l, e1, e2));
+            ids.push(nodes.len() - 1);
+        }
+        slice_nodes.push(ids);
+    }
+    let mut g = Graph::new(nodes, &slice_nodes);
+    let min_span = ((opts.min_branch * n as Real).ceil() as usize).max(2);
+    g.prune(min_span);
+
+    // 5. Legs and crotch.
+    let roots: Vec<usize> = (0..g.segments.len())
+        .filter(|&s| g.segments[s].parents.is_empty())
+        .collect();
+    let low_limit = n / 10;
+    let mut leg_roots: Vec<usize> = roots
+        .iter()
+        .copied()
+        .filter(|&s| g.nodes[g.segments[s].nodes[0]].slice <= low_limit)
+        .collect();
+    if leg_roots.len() < 2 {
+        return Err(SegmentError::NotAStandingBody {
+            what: "two legs",
+            why: format!(
+                "{} branch(es) start in the lowest tenth of the height; the lowest slices never split into two feet",
+                leg_roots.len()
+            ),
+        });
+    }
+    if leg_roots.len() > 2 {
+        // Keep the two longest.
+        leg_roots.sort_by_key(|&s| std::cmp::Reverse(g.chain_nodes(&g.chain_up(s).0).len()));
+        warnings.push(format!(
+            "{} branches start near the floor; the two longest are taken as legs",
+            leg_roots.len()
+        ));
+        leg_roots.truncate(2);
+    }
+    let (chain_a, merge_a) = g.chain_up(leg_roots[0]);
+    let (chain_b, merge_b) = g.chain_up(leg_roots[1]);
+    let crotch_seg = match (merge_a, merge_b) {
+        (Some(a), Some(b)) if a == b => a,
+        _ => {
+            return Err(SegmentError::NotAStandingBody {
+                what: "the crotch",
+                why: "the two legs never merge into one trunk loop (or merge with another branch first, e.g. a hand touching a thigh)".into(),
+            })
+        }
+    };
+    let mut leg_nodes = [g.chain_nodes(&chain_a), g.chain_nodes(&chain_b)];
+
+    // Trunk path: up from the crotch, biggest child at any split.
+    let mut trunk_segs = vec![crotch_seg];
+    let mut cur = crotch_seg;
+    loop {
+        let children = &g.segments[cur].children;
+        let Some(&next) = children
+            .iter()
+            .filter(|c| !trunk_segs.contains(c))
+            .max_by(|&&a, &&b| g.mean_area(a).total_cmp(&g.mean_area(b)))
+        else {
+            break;
+        };
+        trunk_segs.push(next);
+        cur = next;
+    }
+    let trunk_nodes = g.chain_nodes(&trunk_segs);
+    let top_node = *trunk_nodes.last().unwrap_or(&g.segments[crotch_seg].nodes[0]);
+    let crotch_node = g.segments[crotch_seg].nodes[0];
+    let crotch_slice = g.nodes[crotch_node].slice;
+    if g.nodes[top_node].slice < crotch_slice + n / 5 {
+        return Err(SegmentError::NotAStandingBody {
+            what: "a trunk above the crotch",
+            why: "the branch above the legs' junction ends within a fifth of the height".into(),
+        });
+    }
+
+    // 6. Front, left.
+    let front = match opts.front {
+        Some(f) => (f - up * f.dot(up))
+            .normalized()
+            .ok_or(SegmentError::BadOption {
+                name: "front",
+                why: "must be finite, non-zero and not parallel to up",
+            })?,
+        None => {
+            let mean_c = |lo: Real, hi: Real| {
+                let (mut s, mut w) = (Vec3::ZERO, 0.0);
+                for (k, (_, loops)) in raw.iter().enumerate() {
+                    let f = (k as Real + 0.5) / n as Real;
+                    if f >= lo && f < hi {
+                        for l in loops {
+                            s += l.centroid * l.area;
+                            w += l.area;
+                        }
+                    }
+                }
+                (w > 0.0).then(|| s / w)
+            };
+            let dir = match (mean_c(0.01, 0.03), mean_c(0.06, 0.09)) {
+                (Some(a), Some(b)) => {
+                    let d = a - b;
+                    d - up * d.dot(up)
+                }
+                _ => Vec3::ZERO,
+            };
+            if dir.norm() < 0.005 * extent {
+                warnings.push(format!(
+                    "front direction weakly determined: the feet reach only {:.2} % of the height in front of the ankles",
+                    100.0 * dir.norm() / extent
+                ));
+            }
+            dir.normalized().unwrap_or_else(|| up.any_perpendicular())
+        }
+    };
+    let left = up.cross(front);
+
+    // Put heights on the nodes' centroids consistently: a point's height
+    // above the soles is (p − floor)·up, floor = lowest point.
+    let floor = positions
+        .iter()
+        .map(|p| p.dot(up))
+        .fold(Real::INFINITY, Real::min);
+    let hfrac = |p: Point3| (p.dot(up) - floor) / extent;
+    let at_height = |p: Point3, h: Real| p + up * (floor + h - p.dot(up));
+
+    // Legs: left/right by offset along `left`.
+    let side = |nodes: &[usize]| {
+        nodes
+            .iter()
+            .map(|&a| g.nodes[a].centroid.dot(left))
+            .sum::<Real>()
+            / nodes.len().max(1) as Real
+    };
+    if side(&leg_nodes[0]) < side(&leg_nodes[1]) {
+        leg_nodes.swap(0, 1);
+    }
+    let mut landmarks = Vec::new();
+    let mut parts = Vec::new();
+
+    // Crotch.
+    let leg_tops = [
+        g.nodes[*leg_nodes[0].last().unwrap_or(&crotch_node)].centroid,
+        g.nodes[*leg_nodes[1].last().unwrap_or(&crotch_node)].centroid,
+    ];
+    let crotch_h = height_of(crotch_slice) - 0.5 * step;
+    let crotch = at_height((leg_tops[0] + leg_tops[1]) * 0.5, crotch_h);
+    landmarks.push(Landmark {
+        kind: LandmarkKind::Crotch,
+        position: crotch,
+        height_fraction: crotch_h / extent,
+        confidence: 1.0,
+        how: "the legs' branches merge into the trunk",
+    });
+
+    // Arms.
+    let trunk_set: std::collections::HashSet<usize> = trunk_segs.iter().copied().collect();
+    let mut arm_found: [Option<(Vec<usize>, usize)>; 2] = [None, None];
+    let min_arm = (opts.min_arm * n as Real) as usize;
+    let leg_seg_set: Vec<usize> = chain_a.iter().chain(chain_b.iter()).copied().collect();
+    for &r in &roots {
+        if leg_seg_set.contains(&r) {
+            continue;
+        }
+        let (chain, merge) = g.chain_up(r);
+        let Some(m) = merge else { continue };
+        if !trunk_set.contains(&m) || m == crotch_seg {
+            continue;
+        }
+        let nodes = g.chain_nodes(&chain);
+        let span = g.nodes[*nodes.last().unwrap_or(&0)].slice - g.nodes[nodes[0]].slice + 1;
+        if span < min_arm {
+            continue;
+        }
+        // Side relative to the trunk loop at the merge.
+        let merge_c = g.nodes[g.segments[m].nodes[0]].centroid;
+        let off = side(&nodes) - merge_c.dot(left);
+        let k = if off > 0.0 { 0 } else { 1 };
+        let better = match &arm_found[k] {
+            None => true,
+            Some((old, _)) => nodes.len() > old.len(),
+        };
+        if better {
+            arm_found[k] = Some((nodes, m));
+        }
+    }
+
+    // Highest armpit (for the neck search).
+    let mut armpit_slice = crotch_slice;
+    for (k, found) in arm_found.iter().enumerate() {
+        let (arm, tip, wrist, pit, pname) = if k == 0 {
+            (
+                PartName::LeftArm,
+                LandmarkKind::LeftHandTip,
+                LandmarkKind::LeftWrist,
+                LandmarkKind::LeftArmpit,
+                "left arm",
+            )
+        } else {
+            (
+                PartName::RightArm,
+                LandmarkKind::RightHandTip,
+                LandmarkKind::RightWrist,
+                LandmarkKind::RightArmpit,
+                "right arm",
+            )
+        };
+        let Some((nodes, m)) = found else {
+            warnings.push(format!(
+                "{pname} not found: no branch of at least {:.0} % of the height joins the trunk on the body's {} side above the crotch (missing arm, arm touching the body, or T-pose)",
+                100.0 * opts.min_arm,
+                if k == 0 { "left" } else { "right" }
+            ));
+            continue;
+        };
+        let last = *nodes.last().unwrap_or(&nodes[0]);
+        let merge_first = g.segments[*m].nodes[0];
+        armpit_slice = armpit_slice.max(g.nodes[merge_first].slice);
+        // The trunk loop just below the merge: the other parent's last node.
+        let trunk_below = g.segments[*m]
+            .parents
+            .iter()
+            .filter(|&&p| g.segments[p].nodes.last() != Some(&last))
+            .map(|&p| *g.segments[p].nodes.last().unwrap_or(&merge_first))
+            .max_by(|&a, &b| g.nodes[a].area.total_cmp(&g.nodes[b].area))
+            .unwrap_or(merge_first);
+        let arm_c = g.nodes[last].c2;
+        let torso_c = g.nodes[trunk_below].c2;
+        let near_t = nearest_point(&g.nodes[trunk_below].poly, arm_c);
+        let near_a = nearest_point(&g.nodes[last].poly, torso_c);
+        let mid2 = (near_t + near_a) * 0.5;
+        let pit_h = height_of(g.nodes[merge_first].slice) - 0.5 * step;
+        let pit_p = at_height(e1 * mid2.x + e2 * mid2.y, pit_h);
+        landmarks.push(Landmark {
+            kind: pit,
+            position: pit_p,
+            height_fraction: pit_h / extent,
+            confidence: 1.0,
+            how: "the arm's branch merges into the trunk",
+        });
+        // Arm axis: from the armpit down to the hand tip.
+        let mut cs: Vec<(Point3, Real)> = nodes
+            .iter()
+            .rev()
+            .map(|&a| (g.nodes[a].centroid, g.nodes[a].radius))
+            .collect();
+        let tip_node = nodes[0];
+        let tip_h = height_of(g.nodes[tip_node].slice) - 0.5 * step;
+        let tip_p = at_height(g.nodes[tip_node].centroid, tip_h);
+        cs.push((tip_p, g.nodes[tip_node].radius));
+        let axis = smooth_axis(&cs, opts.axis_smoothing * extent, step);
+        let part = PartAxis {
+            name: arm,
+            points: axis.0,
+            radii: axis.1,
+            start: pit,
+            end: tip,
+        };
+        landmarks.push(Landmark {
+            kind: tip,
+            position: tip_p,
+            height_fraction: hfrac(tip_p),
+            confidence: 0.8,
+            how: "lowest slice of the arm's branch (fingers below may be dropped as small loops)",
+        });
+        if let Some(w) = find_wrist(body, &part, opts, slicer.spacing(), wrist) {
+            let mut w = w;
+            w.height_fraction = hfrac(w.position);
+            landmarks.push(w);
+        } else {
+            warnings.push(format!("{pname}: wrist not found on perpendicular cuts"));
+        }
+        parts.push(part);
+    }
+    if arm_found.iter().all(|a| a.is_none()) {
+        armpit_slice = crotch_slice + (g.nodes[top_node].slice - crotch_slice) / 2;
+    }
+
+    // Neck: smallest hull girth between the head's widest slice and the
+    // highest armpit.
+    let above: Vec<usize> = trunk_nodes
+        .iter()
+        .copied()
+        .filter(|&a| g.nodes[a].slice > armpit_slice)
+        .collect();
+    let neck_node = {
+        let upper_half: Vec<usize> = above
+            .iter()
+            .copied()
+            .filter(|&a| g.nodes[a].slice * 2 >= armpit_slice + g.nodes[top_node].slice)
+            .collect();
+        let head_max = upper_half
+            .iter()
+            .copied()
+            .max_by(|&a, &b| g.nodes[a].hull_girth.total_cmp(&g.nodes[b].hull_girth));
+        let Some(head_max) = head_max else {
+            return Err(SegmentError::NotAStandingBody {
+                what: "the head",
+                why: "the trunk ends at the armpits".into(),
+            });
+        };
+        above
+            .iter()
+            .copied()
+            .filter(|&a| g.nodes[a].slice < g.nodes[head_max].slice)
+            .min_by(|&a, &b| g.nodes[a].hull_girth.total_cmp(&g.nodes[b].hull_girth))
+            .ok_or(SegmentError::NotAStandingBody {
+                what: "the neck",
+                why: "no slice between the armpits and the head's widest slice".into(),
+            })?
+    };
+    let neck_p = g.nodes[neck_node].centroid;
+    let neck_conf = girth_contrast(&g, &above, neck_node);
+    landmarks.push(Landmark {
+        kind: LandmarkKind::Neck,
+        position: neck_p,
+        height_fraction: hfrac(neck_p),
+        confidence: neck_conf,
+        how: "smallest hull girth between the armpits and the head's widest slice",
+    });
+    let top_p = at_height(g.nodes[top_node].centroid, extent);
+    landmarks.push(Landmark {
+        kind: LandmarkKind::HeadTop,
+        position: top_p,
+        height_fraction: 1.0,
+        confidence: 1.0,
+        how: "top end of the trunk's branch",
+    });
+
+    // Torso and head axes.
+    let pick = |lo: usize, hi: usize| -> Vec<(Point3, Real)> {
+        trunk_nodes
+            .iter()
+            .filter(|&&a| g.nodes[a].slice >= lo && g.nodes[a].slice <= hi)
+            .map(|&a| (g.nodes[a].centroid, g.nodes[a].radius))
+            .collect()
+    };
+    let neck_slice = g.nodes[neck_node].slice;
+    let mut torso_pts = vec![(crotch, g.nodes[crotch_node].radius)];
+    torso_pts.extend(pick(crotch_slice, neck_slice));
+    let torso = smooth_axis(&torso_pts, opts.axis_smoothing * extent, step);
+    parts.push(PartAxis {
+        name: PartName::Torso,
+        points: torso.0,
+        radii: torso.1,
+        start: LandmarkKind::Crotch,
+        end: LandmarkKind::Neck,
+    });
+    let mut head_pts = pick(neck_slice, g.nodes[top_node].slice);
+    head_pts.push((top_p, g.nodes[top_node].radius));
+    let head = smooth_axis(&head_pts, opts.axis_smoothing * extent, step);
+    parts.push(PartAxis {
+        name: PartName::Head,
+        points: head.0,
+        radii: head.1,
+        start: LandmarkKind::Neck,
+        end: LandmarkKind::HeadTop,
+    });
+
+    // Legs, ankles, feet.
+    for (k, nodes) in leg_nodes.iter().enumerate() {
+        let names = if k == 0 {
+            (
+                PartName::LeftLeg,
+                PartName::LeftFoot,
+                LandmarkKind::LeftAnkle,
+                LandmarkKind::LeftSole,
+                LandmarkKind::LeftHeel,
+                LandmarkKind::LeftToe,
+            )
+        } else {
+            (
+                PartName::RightLeg,
+                PartName::RightFoot,
+                LandmarkKind::RightAnkle,
+                LandmarkKind::RightSole,
+                LandmarkKind::RightHeel,
+                LandmarkKind::RightToe,
+            )
+        };
+        let (leg, foot, ankle, sole, heel, toe) = names;
+        let sole_node = nodes[0];
+        let sole_p = at_height(g.nodes[sole_node].centroid, 0.0);
+        landmarks.push(Landmark {
+            kind: sole,
+            position: sole_p,
+            height_fraction: 0.0,
+            confidence: 1.0,
+            how: "lowest slice of the leg's branch, on the floor",
+        });
+        // Ankle: smallest hull girth below the calf's widest slice (the
+        // widest slice in the lower half of the leg).
+        let top_slice = g.nodes[*nodes.last().unwrap_or(&sole_node)].slice;
+        let sole_slice = g.nodes[sole_node].slice;
+        let half = sole_slice + (top_slice - sole_slice) / 2;
+        let lower: Vec<usize> = nodes
+            .iter()
+            .copied()
+            .filter(|&a| g.nodes[a].slice <= half)
+            .collect();
+        let calf = lower
+            .iter()
+            .copied()
+            .filter(|&a| g.nodes[a].slice > sole_slice + (half - sole_slice) / 4)
+            .max_by(|&a, &b| g.nodes[a].hull_girth.total_cmp(&g.nodes[b].hull_girth))
+            .unwrap_or(sole_node);
+        let ankle_node = lower
+            .iter()
+            .copied()
+            .filter(|&a| g.nodes[a].slice < g.nodes[calf].slice)
+            .min_by(|&a, &b| g.nodes[a].hull_girth.total_cmp(&g.nodes[b].hull_girth))
+            .unwrap_or(sole_node);
+        let ankle_p = g.nodes[ankle_node].centroid;
+        let below: Vec<usize> = lower
+            .iter()
+            .copied()
+            .filter(|&a| g.nodes[a].slice < g.nodes[calf].slice)
+            .collect();
+        landmarks.push(Landmark {
+            kind: ankle,
+            position: ankle_p,
+            height_fraction: hfrac(ankle_p),
+            confidence: girth_contrast(&g, &below, ankle_node),
+            how: "smallest hull girth of the leg below the calf's widest slice",
+        });
+        let ankle_slice = g.nodes[ankle_node].slice;
+        let mut pts: Vec<(Point3, Real)> = nodes
+            .iter()
+            .rev()
+            .filter(|&&a| g.nodes[a].slice >= ankle_slice)
+            .map(|&a| (g.nodes[a].centroid, g.nodes[a].radius))
+            .collect();
+        pts.insert(0, (crotch, g.nodes[*nodes.last().unwrap_or(&sole_node)].radius));
+        let axis = smooth_axis(&pts, opts.axis_smoothing * extent, step);
+        parts.push(PartAxis {
+            name: leg,
+            points: axis.0,
+            radii: axis.1,
+            start: LandmarkKind::Crotch,
+            end: ankle,
+        });
+        // Foot: principal horizontal direction of the slices below the
+        // ankle, oriented to the front.
+        let foot_nodes: Vec<usize> = nodes
+            .iter()
+            .copied()
+            .filter(|&a| g.nodes[a].slice < ankle_slice)
+            .collect();
+        let mut foot_pts: Vec<Point2> = Vec::new();
+        for &a in &foot_nodes {
+            foot_pts.extend(g.nodes[a].poly.iter().copied());
+        }
+        let f2 = Vec2::new(front.dot(e1), front.dot(e2));
+        if let Some(d2) = principal_2d(&foot_pts) {
+            let d2 = if d2.dot(f2) < 0.0 { -d2 } else { d2 };
+            let (lo, hi) = foot_pts.iter().fold(
+                (Real::INFINITY, Real::NEG_INFINITY),
+                |(lo, hi), p| (lo.min(p.dot(d2)), hi.max(p.dot(d2))),
+            );
+            let across = d2.perp();
+            let mean_across =
+                foot_pts.iter().map(|p| p.dot(across)).sum::<Real>() / foot_pts.len() as Real;
+            let foot_h = height_of(ankle_slice) / 3.0;
+            let to3 = |along: Real| {
+                let q = d2 * along + across * mean_across;
+                at_height(e1 * q.x + e2 * q.y, foot_h)
+            };
+            let (heel_p, toe_p) = (to3(lo), to3(hi));
+            let r = foot_nodes
+                .iter()
+                .map(|&a| g.nodes[a].radius)
+                .fold(0.0, Real::max)
+                * 0.5;
+            let m = 16;
+            parts.push(PartAxis {
+                name: foot,
+                points: (0..=m)
+                    .map(|i| heel_p + (toe_p - heel_p) * (i as Real / m as Real))
+                    .collect(),
+                radii: vec![r; m + 1],
+                start: heel,
+                end: toe,
+            });
+            for (kind, p, how) in [
+                (heel, heel_p, "rearmost point of the foot's slices below the ankle"),
+                (toe, toe_p, "foremost point of the foot's slices below the ankle"),
+            ] {
+                landmarks.push(Landmark {
+                    kind,
+                    position: p,
+                    height_fraction: hfrac(p),
+                    confidence: 0.8,
+                    how,
+                });
+            }
+        } else {
+            warnings.push(format!("{foot}: too few slices below the ankle for a foot axis"));
+        }
+    }
+
+    landmarks.sort_by_key(|l| l.kind);
+    parts.sort_by_key(|p| p.name);
+    let origin = crotch - up * (crotch.dot(up) - floor);
+    Ok(Segmentation {
+        frame: BodyFrame {
+            up,
+            front,
+            left,
+            origin,
+        },
+        height: extent,
+        slice_spacing: step,
+        point_spacing: slicer.spacing(),
+        landmarks,
+        parts,
+        warnings,
+    })
+}
+
+fn check_options(o: &SegmentOptions) -> Result<(), SegmentError> {
+    let frac = |v: Real| v.is_finite() && v > 0.0 && v < 1.0;
+    if o.slices < 50 {
+        return Err(SegmentError::BadOption {
+            name: "slices",
+            why: "at least 50 slices are needed to find a body's branches",
+        });
+    }
+    if !frac(o.min_loop_area) {
+        return Err(SegmentError::BadOption {
+            name: "min_loop_area",
+            why: "must be a fraction in (0, 1)",
+        });
+    }
+    if !frac(o.min_branch) || !frac(o.min_arm) || !(o.axis_smoothing.is_finite() && o.axis_smoothing >= 0.0) {
+        return Err(SegmentError::BadOption {
+            name: "min_branch, min_arm or axis_smoothing",
+            why: "must be fractions of the height in (0, 1)",
+        });
+    }
+    if !(o.min_axis_ratio.is_finite() && o.min_axis_ratio >= 1.0) {
+        return Err(SegmentError::BadOption {
+            name: "min_axis_ratio",
+            why: "must be at least 1",
+        });
+    }
+    Ok(())
+}
+
+/// The principal axis of largest variance, if it is distinct.
+fn principal_axis(points: &[Point3], needed: Real) -> Result<Vec3, SegmentError> {
+    let n = points.len() as Real;
+    let mean = points.iter().fold(Vec3::ZERO, |s, &p| s + p) / n;
+    let mut c = [[0.0; 3]; 3];
+    for p in points {
+        let d = (*p - mean).to_array();
+        for i in 0..3 {
+            for j in 0..3 {
+                c[i][j] += d[i] * d[j] / n;
+            }
+        }
+    }
+    let (vals, vecs) = symmetric_eigen3(c);
+    let ratio = if vals[1] > 0.0 {
+        vals[0] / vals[1]
+    } else {
+        Real::INFINITY
+    };
+    if !(ratio >= needed) {
+        return Err(SegmentError::NoUpAxis { ratio, needed });
+    }
+    vecs[0].normalized().ok_or(SegmentError::NoUpAxis { ratio, needed })
+}
+
+/// Principal direction of 2D points (unit), if the spread is not round.
+fn principal_2d(p: &[Point2]) -> Option<Vec2> {
+    if p.len() < 3 {
+        return None;
+    }
+    let n = p.len() as Real;
+    let m = p.iter().fold(Vec2::ZERO, |s, &q| s + q) / n;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    for q in p {
+        let d = *q - m;
+        sxx += d.x * d.x;
+        sxy += d.x * d.y;
+        syy += d.y * d.y;
+    }
+    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
+    Some(Vec2::new(angle.cos(), angle.sin()))
+}
+
+fn nearest_point(poly: &[Point2], q: Point2) -> Point2 {
+    poly.iter()
+        .copied()
+        .min_by(|a, b| (*a - q).norm_squared().total_cmp(&(*b - q).norm_squared()))
+        .unwrap_or(q)
+}
+
+/// How much smaller the minimum is than the largest girth among `nodes`:
+/// `1 − min/max`, clamped to [0, 1].
+fn girth_contrast(g: &Graph, nodes: &[usize], min_node: usize) -> Real {
+    let max = nodes
+        .iter()
+        .map(|&a| g.nodes[a].hull_girth)
+        .fold(0.0, Real::max);
+    if max > 0.0 {
+        (1.0 - g.nodes[min_node].hull_girth / max).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// Moving average (half-width `w` in length units, by position along the
+/// polyline) of centre points with radii, then resampled evenly by arc
+/// length at about `step`. The end points are kept as they are.
+fn smooth_axis(pts: &[(Point3, Real)], w: Real, step: Real) -> (Vec<Point3>, Vec<Real>) {
+    if pts.len() < 2 {
+        return (
+            pts.iter().map(|p| p.0).collect(),
+            pts.iter().map(|p| p.1).collect(),
+        );
+    }
+    let mut s = vec![0.0];
+    for k in 1..pts.len() {
+        let d = pts[k].0.distance(pts[k - 1].0);
+        s.push(s[k - 1] + d);
+    }
+    let smoothed: Vec<(Point3, Real)> = (0..pts.len())
+        .map(|i| {
+            if i == 0 || i + 1 == pts.len() {
+                return pts[i];
+            }
+            // Symmetric window, shrunk near the ends.
+            let half = w.min(s[i]).min(s[pts.len() - 1] - s[i]);
+            let (mut c, mut r, mut m) = (Vec3::ZERO, 0.0, 0.0);
+            for j in 0..pts.len() {
+                if (s[j] - s[i]).abs() <= half {
+                    c += pts[j].0;
+                    r += pts[j].1;
+                    m += 1.0;
+                }
+            }
+            (c / m, r / m)
+        })
+        .collect();
+    let mut len = vec![0.0];
+    for k in 1..smoothed.len() {
+        let d = smoothed[k].0.distance(smoothed[k - 1].0);
+        len.push(len[k - 1] + d);
+    }
+    let total = len[len.len() - 1];
+    let count = ((total / step.max(Real::MIN_POSITIVE)).ceil() as usize).clamp(2, 2000);
+    let mut out_p = Vec::with_capacity(count + 1);
+    let mut out_r = Vec::with_capacity(count + 1);
+    let mut j = 0;
+    for i in 0..=count {
+        let t = total * i as Real / count as Real;
+        while j + 2 < len.len() && len[j + 1] < t {
+            j += 1;
+        }
+        let d = len[j + 1] - len[j];
+        let u = if d > 0.0 {
+            ((t - len[j]) / d).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        out_p.push(smoothed[j].0 + (smoothed[j + 1].0 - smoothed[j].0) * u);
+        out_r.push(smoothed[j].1 + (smoothed[j + 1].1 - smoothed[j].1) * u);
+    }
+    (out_p, out_r)
+}
+
+// ---------------------------------------------------------------------------
+// Cuts perpendicular to a part's axis.
+
+/// The geometry near a point (within `radius`), to cut without sorting the
+/// whole input for every plane. Returns the local geometry and, for clouds,
+/// the original index of each kept point.
+enum Local {
+    Mesh(Mesh),
+    Cloud(PointCloud, Vec<usize>),
+}
+
+fn local_geometry(body: BodyGeometry<'_>, centre: Point3, radius: Real) -> Local {
+    let r2 = radius * radius;
+    match body {
+        BodyGeometry::Mesh(m) => {
+            let triangles = m
+                .triangles
+                .iter()
+                .copied()
+                .filter(|t| {
+                    t.iter().any(|&v| {
+                        m.positions
+                            .get(v as usize)
+                            .is_some_and(|p| (*p - centre).norm_squared() <= r2)
+                    })
+                })
+                .collect();
+            Local::Mesh(Mesh {
+                positions: m.positions.clone(),
+                normals: None,
+                triangles,
+            })
+        }
+        BodyGeometry::Cloud(c) => {
+            let mut idx = Vec::new();
+            let mut pos = Vec::new();
+            for (i, p) in c.positions.iter().enumerate() {
+                if (*p - centre).norm_squared() <= r2 {
+                    idx.push(i);
+                    pos.push(*p);
+                }
+            }
+            Local::Cloud(
+                PointCloud {
+                    positions: pos,
+                    normals: None,
+                },
+                idx,
+            )
+        }
+    }
+}
+
+/// All loops of the local geometry in `plane`, with cloud indices.
+fn local_loops(
+    local: &Local,
+    plane: &Plane,
+    opts: &SegmentOptions,
+    spacing: Option<Real>,
+) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
+    match local {
+        Local::Mesh(m) => {
+            if m.triangles.is_empty() {
+                return Vec::new();
+            }
+            section_mesh(m, plane, &opts.section)
+                .map(|s| s.loops.into_iter().map(|l| (l, None)).collect())
+                .unwrap_or_default()
+        }
+        Local::Cloud(c, idx) => {
+            if c.positions.len() < 3 {
+                return Vec::new();
+            }
+            let Ok(slicer) = CloudSlicer::new(c, plane.normal) else {
+                return Vec::new();
+            };
+            let so = ScanSectionOptions {
+                half_thickness: opts.scan.half_thickness.or(spacing),
+                cell_size: opts.scan.cell_size.or(spacing),
+                ..opts.scan
+            };
+            slicer
+                .section_at(plane.offset(), &so)
+                .map(|s| {
+                    s.loops
+                        .into_iter()
+                        .map(|l| {
+                            let ids = l.scan_indices.iter().map(|&k| idx[k]).collect();
+                            (l.outline, Some(ids))
+                        })
+                        .collect()
+                })
+                .unwrap_or_default()
+        }
+    }
+}
+
+/// Cuts `part` with the plane perpendicular to its axis at arc-length
+/// fraction `at ∈ [0, 1]` (0 the proximal end) and returns the part's loop:
+/// the innermost loop around the axis point, else the nearest one.
+/// `body` must be the geometry `seg` came from.
+pub fn cut_part(
+    body: BodyGeometry<'_>,
+    seg: &Segmentation,
+    part: PartName,
+    at: Real,
+    opts: &SegmentOptions,
+) -> Result<PartCut, SegmentError> {
+    let axis = seg.part(part).ok_or(SegmentError::NoSuchPart(part))?;
+    let (p, t) = axis
+        .point_and_tangent(at)
+        .ok_or(SegmentError::EmptyCut { part, at })?;
+    let plane = Plane::new(p, t)?;
+    let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
+    let local = local_geometry(body, p, radius);
+    let loops = local_loops(&local, &plane, opts, seg.point_spacing);
+    let outlines: Vec<SectionLoop> = loops.iter().map(|l| l.0.clone()).collect();
+    let k = crate::section::select_loop(&outlines, p).ok_or(SegmentError::EmptyCut { part, at })?;
+    let (outline, scan_indices) = loops
+        .into_iter()
+        .nth(k)
+        .ok_or(SegmentError::EmptyCut { part, at })?;
+    Ok(PartCut {
+        plane,
+        outline,
+        scan_indices,
+    })
+}
+
+/// The wrist on cuts perpendicular to the arm's distal half: walking up
+/// from the hand tip, the widest cut (the hand) comes first; the narrowest
+/// cut between it and the middle of the arm is the wrist. All cuts are
+/// parallel (normal = the distal half's direction), so one sorted slicer
+/// serves them all.
+fn find_wrist(
+    body: BodyGeometry<'_>,
+    arm: &PartAxis,
+    opts: &SegmentOptions,
+    spacing: Option<Real>,
+    kind: LandmarkKind,
+) -> Option<Landmark> {
+    let (mid, _) = arm.point_and_tangent(0.45)?;
+    let (tip, _) = arm.point_and_tangent(1.0)?;
+    let dir = (tip - mid).normalized()?;
+    let len = tip.distance(mid);
+    let r = arm.max_radius();
+    let centre = (mid + tip) * 0.5;
+    let local = local_geometry(body, centre, 0.5 * len + 3.0 * r);
+    let count = 40;
+    // Cuts at fractions 0.45..0.97 of the arm, as (fraction, hull girth, point).
+    let mut cuts: Vec<(Real, Real, Point3)> = Vec::new();
+    for i in 0..=count {
+        let f = 0.45 + 0.52 * i as Real / count as Real;
+        let (p, _) = arm.point_and_tangent(f)?;
+        let plane = Plane::new(p, dir).ok()?;
+        let loops = local_loops(&local, &plane, opts, spacing);
+        // Hull of every loop near the axis point (fingers count as hand).
+        let mut pts: Vec<Point2> = Vec::new();
+        for (l, _) in &loops {
+            if l.centroid.distance(p) <= 1.5 * r {
+                pts.extend(l.points.iter().map(|&q| plane_coords(&plane, q)));
+            }
+        }
+        if pts.len() >= 3 {
+            let girth = hull_perimeter(&pts);
+            let mut c = Vec3::ZERO;
+            let mut m = 0.0;
+            for (l, _) in &loops {
+                if l.centroid.distance(p) <= 1.5 * r {
+                    c += l.centroid * l.area;
+                    m += l.area;
+                }
+            }
+            cuts.push((f, girth, if m > 0.0 { c / m } else { p }));
+        }
+    }
+    if cuts.len() < 5 {
+        return None;
+    }
+    // The hand's widest cut in the distal third of the range.
+    let hand = cuts
+        .iter()
+        .filter(|c| c.0 >= 0.72)
+        .max_by(|a, b| a.1.total_cmp(&b.1))?;
+    let wrist = cuts
+        .iter()
+        .filter(|c| c.0 < hand.0)
+        .min_by(|a, b| a.1.total_cmp(&b.1))?;
+    let max_before = cuts
+        .iter()
+        .filter(|c| c.0 <= wrist.0)
+        .map(|c| c.1)
+        .fold(0.0, Real::max);
+    let contrast = if hand.1 > 0.0 && max_before > 0.0 {
+        (1.0 - wrist.1 / hand.1.min(max_before)).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    Some(Landmark {
+        kind,
+        position: wrist.2,
+        height_fraction: 0.0,
+        confidence: contrast,
+        how: "narrowest perpendicular cut of the forearm between the elbow and the hand's widest cut",
+    })
+}
+
+fn plane_coords(plane: &Plane, q: Point3) -> Point2 {
+    let e1 = plane.normal.any_perpendicular();
+    let e2 = plane.normal.cross(e1);
+    let d = q - plane.origin;
+    Vec2::new(d.dot(e1), d.dot(e2))
+}

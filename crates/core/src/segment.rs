@@ -85,7 +85,8 @@ use crate::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::mesh::{Mesh, MeshError, PointCloud};
 use crate::scan_section::{CloudSlicer, ScanSectionError, ScanSectionOptions};
 use crate::section::{
-    point_in_polygon, section_mesh, MeshSlicer, Plane, SectionError, SectionLoop, SectionOptions,
+    point_in_polygon, polygon_area_centroid, section_mesh, MeshSlicer, Plane, SectionError,
+    SectionLoop, SectionOptions,
 };
 use std::fmt;
 use thiserror::Error;
@@ -136,8 +137,18 @@ pub struct SegmentOptions {
     pub min_axis_ratio: Real,
     /// Plane-section options for meshes.
     pub section: SectionOptions,
-    /// Slab-section options for clouds.
+    /// Slab-section options for clouds (used by [`cut_part`]; the slice
+    /// graph takes `half_thickness` and `max_cells` from here).
     pub scan: ScanSectionOptions,
+    /// Cell size of the slice graph's occupancy images for clouds, as a
+    /// multiple of the point spacing. Default 2 (the graph needs where the
+    /// parts are, not their outlines; 4 times fewer cells than the scan
+    /// sections).
+    pub graph_cell: Real,
+    /// Closing radius (cells) of the graph's occupancy images. Default 1
+    /// (with cells twice as large, the same 4-spacing gaps close as with
+    /// the scan sections' 2).
+    pub graph_closing: usize,
 }
 
 impl Default for SegmentOptions {
@@ -153,6 +164,8 @@ impl Default for SegmentOptions {
             min_axis_ratio: 1.5,
             section: SectionOptions::default(),
             scan: ScanSectionOptions::default(),
+            graph_cell: 2.0,
+            graph_closing: 1,
         }
     }
 }
@@ -364,10 +377,10 @@ pub struct PartCut {
 // ---------------------------------------------------------------------------
 // Slicing along one axis, for meshes and clouds alike.
 
-/// Sections normal to one axis, from a mesh or a cloud.
+/// Sections normal to one axis, from a mesh or a cloud, as graph nodes.
 enum AxisSlicer<'a> {
     Mesh(MeshSlicer<'a>),
-    Cloud(CloudSlicer<'a>, ScanSectionOptions),
+    Cloud(SlabComponents),
 }
 
 impl<'a> AxisSlicer<'a> {
@@ -378,35 +391,241 @@ impl<'a> AxisSlicer<'a> {
     ) -> Result<AxisSlicer<'a>, SegmentError> {
         Ok(match body {
             BodyGeometry::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, axis, &opts.section)?),
-            BodyGeometry::Cloud(c) => AxisSlicer::Cloud(CloudSlicer::new(c, axis)?, opts.scan),
+            BodyGeometry::Cloud(c) => {
+                // The spacing estimate of the scan sections, so that both
+                // agree on what a cell is.
+                let spacing = CloudSlicer::new(c, axis)?.spacing();
+                let graph = ScanSectionOptions {
+                    cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
+                    closing_radius: opts.graph_closing,
+                    ..opts.scan
+                };
+                AxisSlicer::Cloud(SlabComponents::new(&c.positions, axis, spacing, &graph)?)
+            }
         })
     }
 
     fn range(&self) -> (Real, Real) {
         match self {
             AxisSlicer::Mesh(s) => s.range(),
-            AxisSlicer::Cloud(s, _) => s.range(),
+            AxisSlicer::Cloud(s) => s.range(),
         }
     }
 
     fn spacing(&self) -> Option<Real> {
         match self {
             AxisSlicer::Mesh(_) => None,
-            AxisSlicer::Cloud(s, _) => Some(s.spacing()),
+            AxisSlicer::Cloud(s) => Some(s.spacing),
         }
     }
 
-    /// The closed loops at `offset`; none where the plane misses or the
-    /// slab is too thin (the very ends).
-    fn loops_at(&self, offset: Real) -> Vec<SectionLoop> {
+    /// The section's loops at `offset` as nodes (slice index 0, set by the
+    /// caller); none where the plane misses or the slab is too thin.
+    fn nodes_at(&self, offset: Real, e1: Vec3, e2: Vec3) -> Vec<Node> {
         match self {
-            AxisSlicer::Mesh(s) => s.section_at(offset).map(|s| s.loops).unwrap_or_default(),
-            AxisSlicer::Cloud(s, o) => s
-                .section_at(offset, o)
-                .map(|s| s.loops.into_iter().map(|l| l.outline).collect())
+            AxisSlicer::Mesh(s) => s
+                .section_at(offset)
+                .map(|s| s.loops.iter().map(|l| Node::new(0, l, e1, e2)).collect())
                 .unwrap_or_default(),
+            AxisSlicer::Cloud(s) => s.nodes_at(offset, e1, e2),
         }
     }
+}
+
+/// Slabs of a point cloud reduced to what the slice graph needs: the
+/// connected components of each slab's occupancy image (the construction
+/// of [`CloudSlicer`]: cells of the point spacing, a morphological closing,
+/// 8-connected components) with their filled area, area centroid and the
+/// convex hull of their points. Ordering the points along each loop (what
+/// the curve fit needs, and most of [`CloudSlicer::section_at`]'s time) is
+/// skipped: the graph only asks where a part is and how big.
+#[derive(Debug)]
+struct SlabComponents {
+    axis: Vec3,
+    points: Vec<Point3>,
+    heights: Vec<Real>,
+    spacing: Real,
+    half_thickness: Real,
+    cell: Real,
+    closing: usize,
+    min_points: usize,
+    max_cells: usize,
+}
+
+impl SlabComponents {
+    fn new(
+        points: &[Point3],
+        axis: Vec3,
+        spacing: Real,
+        o: &ScanSectionOptions,
+    ) -> Result<SlabComponents, SegmentError> {
+        let axis = axis.normalized().ok_or(SegmentError::BadOption {
+            name: "up",
+            why: "must be a finite non-zero vector",
+        })?;
+        let len = |v: Option<Real>, name: &'static str| match v {
+            None => Ok(spacing),
+            Some(x) if x.is_finite() && x > 0.0 => Ok(x),
+            Some(_) => Err(SegmentError::BadOption {
+                name,
+                why: "must be finite and positive",
+            }),
+        };
+        let mut keyed: Vec<(Real, Point3)> = points.iter().map(|&p| (p.dot(axis), p)).collect();
+        keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Ok(SlabComponents {
+            axis,
+            heights: keyed.iter().map(|k| k.0).collect(),
+            points: keyed.into_iter().map(|k| k.1).collect(),
+            spacing,
+            half_thickness: len(o.half_thickness, "scan.half_thickness")?,
+            cell: len(o.cell_size, "scan.cell_size")?,
+            closing: o.closing_radius,
+            min_points: o.min_component_points.max(3),
+            max_cells: o.max_cells.max(64),
+        })
+    }
+
+    fn range(&self) -> (Real, Real) {
+        (
+            self.heights.first().copied().unwrap_or(0.0),
+            self.heights.last().copied().unwrap_or(0.0),
+        )
+    }
+
+    fn nodes_at(&self, offset: Real, e1: Vec3, e2: Vec3) -> Vec<Node> {
+        let t = self.half_thickness;
+        let lo = self.heights.partition_point(|&h| h < offset - t);
+        let hi = self.heights.partition_point(|&h| h <= offset + t);
+        if hi - lo < self.min_points {
+            return Vec::new();
+        }
+        let pts: Vec<Point2> = self.points[lo..hi]
+            .iter()
+            .map(|&p| Vec2::new(p.dot(e1), p.dot(e2)))
+            .collect();
+        let (mut min, mut max) = (pts[0], pts[0]);
+        for p in &pts {
+            min = Vec2::new(min.x.min(p.x), min.y.min(p.y));
+            max = Vec2::new(max.x.max(p.x), max.y.max(p.y));
+        }
+        let r = self.closing;
+        let margin = (r + 2) as Real;
+        let mut g = self.cell;
+        let dims = |g: Real| {
+            (
+                ((max.x - min.x) / g + 2.0 * margin).ceil() as usize + 1,
+                ((max.y - min.y) / g + 2.0 * margin).ceil() as usize + 1,
+            )
+        };
+        while {
+            let (w, h) = dims(g);
+            w.saturating_mul(h) > self.max_cells
+        } {
+            g *= 1.5;
+        }
+        let (w, h) = dims(g);
+        let origin = min - Vec2::new(margin * g, margin * g);
+        let cell_of = |p: Point2| {
+            let x = (((p.x - origin.x) / g) as usize).min(w - 1);
+            let y = (((p.y - origin.y) / g) as usize).min(h - 1);
+            y * w + x
+        };
+        let mut img = vec![false; w * h];
+        let cells: Vec<usize> = pts.iter().map(|&p| cell_of(p)).collect();
+        for &c in &cells {
+            img[c] = true;
+        }
+        let img = box_filter(&box_filter(&img, w, h, r, true), w, h, r, false);
+        // 8-connected components.
+        let mut label = vec![u32::MAX; w * h];
+        let mut comps: Vec<Vec<usize>> = Vec::new();
+        let mut stack = Vec::new();
+        for start in 0..w * h {
+            if !img[start] || label[start] != u32::MAX {
+                continue;
+            }
+            let id = comps.len() as u32;
+            let mut members = Vec::new();
+            label[start] = id;
+            stack.push(start);
+            while let Some(c) = stack.pop() {
+                members.push(c);
+                let (x, y) = ((c % w) as isize, (c / w) as isize);
+                for dy in -1..=1isize {
+                    for dx in -1..=1isize {
+                        let (nx, ny) = (x + dx, y + dy);
+                        if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
+                            continue;
+                        }
+                        let nc = ny as usize * w + nx as usize;
+                        if img[nc] && label[nc] == u32::MAX {
+                            label[nc] = id;
+                            stack.push(nc);
+                        }
+                    }
+                }
+            }
+            comps.push(members);
+        }
+        let mut comp_points: Vec<Vec<Point2>> = vec![Vec::new(); comps.len()];
+        for (k, &c) in cells.iter().enumerate() {
+            if let Some(v) = comp_points.get_mut(label[c] as usize) {
+                v.push(pts[k]);
+            }
+        }
+        let mut out = Vec::new();
+        for id in 0..comps.len() {
+            if comp_points[id].len() < self.min_points {
+                continue;
+            }
+            // Area and centroid of the convex hull of the points: a ring
+            // broken by a scanner hole has no inside to fill, but its hull
+            // is still the section's outline (over-counting only the
+            // concavities).
+            let hull = convex_hull(&comp_points[id]);
+            let Some((area, c2)) = polygon_area_centroid(&hull) else {
+                continue;
+            };
+            let area = area.abs();
+            out.push(Node::from_parts(
+                0,
+                self.axis * offset + e1 * c2.x + e2 * c2.y,
+                c2,
+                area,
+                hull,
+            ));
+        }
+        out
+    }
+}
+
+/// Dilation (`dilate`) or erosion of a binary image by a square of radius
+/// `r`, separably (rows, then columns) with running counts.
+fn box_filter(img: &[bool], w: usize, h: usize, r: usize, dilate: bool) -> Vec<bool> {
+    let pass = |src: &[bool], len: usize, lines: usize, at: &dyn Fn(usize, usize) -> usize| {
+        let mut out = vec![false; src.len()];
+        for line in 0..lines {
+            let mut count = 0usize;
+            // Window [i - r, i + r]; out of range counts as unset.
+            for i in 0..r.min(len) {
+                count += usize::from(src[at(line, i)]);
+            }
+            for i in 0..len {
+                if i + r < len {
+                    count += usize::from(src[at(line, i + r)]);
+                }
+                if i > r {
+                    count -= usize::from(src[at(line, i - r - 1)]);
+                }
+                let full = 2 * r + 1;
+                out[at(line, i)] = if dilate { count > 0 } else { count == full };
+            }
+        }
+        out
+    };
+    let rows = pass(img, w, h, &|line, i| line * w + i);
+    pass(&rows, h, w, &|line, i| i * w + line)
 }
 
 /// A loop of the slice graph, in the slices' common plane coordinates.
@@ -425,12 +644,13 @@ struct Node {
 }
 
 impl Node {
-    fn new(slice: usize, l: &SectionLoop, e1: Vec3, e2: Vec3) -> Node {
-        let poly: Vec<Point2> = l
-            .points
-            .iter()
-            .map(|&p| Vec2::new(p.dot(e1), p.dot(e2)))
-            .collect();
+    fn from_parts(
+        slice: usize,
+        centroid: Point3,
+        c2: Point2,
+        area: Real,
+        poly: Vec<Point2>,
+    ) -> Node {
         let (mut lo, mut hi) = (
             Vec2::new(Real::INFINITY, Real::INFINITY),
             Vec2::new(Real::NEG_INFINITY, Real::NEG_INFINITY),
@@ -441,16 +661,26 @@ impl Node {
         }
         Node {
             slice,
-            centroid: l.centroid,
-            c2: Vec2::new(l.centroid.dot(e1), l.centroid.dot(e2)),
-            area: l.area,
-            radius: (l.area / std::f64::consts::PI).sqrt(),
+            centroid,
+            c2,
+            area,
+            radius: (area / std::f64::consts::PI).sqrt(),
             hull_girth: hull_perimeter(&poly),
             poly,
             lo,
             hi,
             active: true,
         }
+    }
+
+    fn new(slice: usize, l: &SectionLoop, e1: Vec3, e2: Vec3) -> Node {
+        let poly: Vec<Point2> = l
+            .points
+            .iter()
+            .map(|&p| Vec2::new(p.dot(e1), p.dot(e2)))
+            .collect();
+        let c2 = Vec2::new(l.centroid.dot(e1), l.centroid.dot(e2));
+        Node::from_parts(slice, l.centroid, c2, l.area, poly)
     }
 
     fn overlaps(&self, o: &Node) -> bool {
@@ -463,14 +693,13 @@ impl Node {
     }
 }
 
-/// Perimeter of the convex hull of `p` (Andrew's monotone chain): a girth
-/// that ignores concavities, gaps between fingers and scan noise.
-fn hull_perimeter(p: &[Point2]) -> Real {
+/// The convex hull of `p` (Andrew's monotone chain), counter-clockwise.
+fn convex_hull(p: &[Point2]) -> Vec<Point2> {
     let mut pts: Vec<Point2> = p.to_vec();
     pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
     pts.dedup();
     if pts.len() < 3 {
-        return 0.0;
+        return pts;
     }
     let mut hull: Vec<Point2> = Vec::with_capacity(pts.len() + 1);
     for pass in 0..2 {
@@ -494,9 +723,19 @@ fn hull_perimeter(p: &[Point2]) -> Real {
         }
         hull.pop();
     }
-    (0..hull.len())
-        .map(|i| (hull[(i + 1) % hull.len()] - hull[i]).norm())
-        .sum()
+    hull
+}
+
+/// Perimeter of a closed polygon.
+fn perimeter_2d(p: &[Point2]) -> Real {
+    let m = p.len();
+    (0..m).map(|i| (p[(i + 1) % m] - p[i]).norm()).sum()
+}
+
+/// Perimeter of the convex hull of `p`: a girth that ignores concavities,
+/// gaps between fingers and scan noise.
+fn hull_perimeter(p: &[Point2]) -> Real {
+    perimeter_2d(&convex_hull(p))
 }
 
 /// The slice graph: nodes, links, and segments (maximal one-to-one chains).
@@ -517,6 +756,13 @@ struct Segment {
 }
 
 const NO_SEG: usize = usize::MAX;
+
+/// Most slices a link may skip (see [`Graph::new`]).
+const MAX_BRIDGE: usize = 3;
+
+/// A short inner segment with less than this fraction of the area of its
+/// largest neighbour is a fragment and removed.
+const FRAGMENT_AREA: Real = 0.3;
 
 impl Graph {
     /// `slices[k]` are the node ids of slice `k`, bottom to top.
@@ -539,16 +785,30 @@ impl Graph {
                 }
             }
         }
-        // Bridge one missing slice.
-        for k in 0..slices.len().saturating_sub(2) {
+        // Bridge up to MAX_BRIDGE slices where a loop is missing (a scan
+        // slab that lost it, a garbled loop that was dropped): a loop with
+        // no link upward links to the nearest later slice with an
+        // overlapping loop that has no link downward.
+        for k in 0..slices.len() {
             for &a in &slices[k] {
                 if !g.up[a].is_empty() {
                     continue;
                 }
-                for &b in &slices[k + 2] {
-                    if g.down[b].is_empty() && g.nodes[a].overlaps(&g.nodes[b]) {
-                        g.up[a].push(b);
-                        g.down[b].push(a);
+                for gap in 2..=MAX_BRIDGE + 1 {
+                    let Some(later) = slices.get(k + gap) else {
+                        break;
+                    };
+                    let found: Vec<usize> = later
+                        .iter()
+                        .copied()
+                        .filter(|&b| g.down[b].is_empty() && g.nodes[a].overlaps(&g.nodes[b]))
+                        .collect();
+                    if !found.is_empty() {
+                        for b in found {
+                            g.up[a].push(b);
+                            g.down[b].push(a);
+                        }
+                        break;
                     }
                 }
             }
@@ -636,34 +896,65 @@ impl Graph {
     /// Removes spurs, isolated scraps and the smaller side of bubbles
     /// shorter than `min_span` slices; repeats until stable.
     fn prune(&mut self, min_span: usize) {
-        for _round in 0..50 {
+        for _round in 0..100 {
             self.build_segments();
             let mut remove: Vec<usize> = Vec::new();
+            let mut inner: Vec<usize> = Vec::new();
             for s in 0..self.segments.len() {
                 let seg = &self.segments[s];
-                let short = self.span(s) < min_span;
-                if !short {
+                if self.span(s) >= min_span {
                     continue;
                 }
-                let leaf = seg.parents.is_empty() || seg.children.is_empty();
-                if leaf {
+                if seg.parents.is_empty() || seg.children.is_empty() {
                     remove.push(s);
                     continue;
                 }
-                // Bubble: a sibling with the same single parent and child.
-                if seg.parents.len() == 1 && seg.children.len() == 1 {
-                    let (p, c) = (seg.parents[0], seg.children[0]);
-                    let sibling = self.segments[p].children.iter().copied().find(|&o| {
+                // Fragment: a short piece much smaller than its neighbours
+                // (a trunk loop that broke for a slice or two in a scan).
+                let neighbour_area = seg
+                    .parents
+                    .iter()
+                    .chain(seg.children.iter())
+                    .map(|&o| self.mean_area(o))
+                    .fold(0.0, Real::max);
+                let fragment = self.mean_area(s) < FRAGMENT_AREA * neighbour_area;
+                // Bubble: a larger sibling shares its parent and child.
+                let bubble = seg.parents.iter().any(|&p| {
+                    self.segments[p].children.iter().any(|&o| {
                         o != s
-                            && self.segments[o].parents == [p]
-                            && self.segments[o].children == [c]
-                    });
-                    if let Some(o) = sibling {
-                        let (ma, mb) = (self.mean_area(s), self.mean_area(o));
-                        if ma < mb || (ma == mb && s > o) {
-                            remove.push(s);
-                        }
-                    }
+                            && self.mean_area(o) >= self.mean_area(s)
+                            && self.segments[o]
+                                .children
+                                .iter()
+                                .any(|c| seg.children.contains(c))
+                    })
+                });
+                if fragment || bubble {
+                    inner.push(s);
+                }
+            }
+            // Inner pieces go smallest first, and only while every parent
+            // keeps a child and every child a parent: a trunk that split
+            // into several pieces for a slice keeps its largest one.
+            inner.sort_by(|&a, &b| self.mean_area(a).total_cmp(&self.mean_area(b)));
+            let mut gone = vec![false; self.segments.len()];
+            for &s in &remove {
+                gone[s] = true;
+            }
+            for s in inner {
+                let seg = &self.segments[s];
+                let keeps = seg.parents.iter().all(|&p| {
+                    self.segments[p]
+                        .children
+                        .iter()
+                        .any(|&o| o != s && !gone[o])
+                }) && seg
+                    .children
+                    .iter()
+                    .all(|&c| self.segments[c].parents.iter().any(|&o| o != s && !gone[o]));
+                if keeps {
+                    gone[s] = true;
+                    remove.push(s);
                 }
             }
             if remove.is_empty() {
@@ -760,10 +1051,15 @@ pub fn segment(
     }
     let n = opts.slices;
     let step = extent / n as Real;
-    let mut raw: Vec<(Real, Vec<SectionLoop>)> = (0..n)
+    // Plane coordinates shared by all slices (any orthonormal pair ⊥ axis).
+    let (e1, e2) = {
+        let e1 = axis.any_perpendicular();
+        (e1, axis.cross(e1))
+    };
+    let mut raw: Vec<(Real, Vec<Node>)> = (0..n)
         .map(|k| {
             let off = min + (k as Real + 0.5) * step;
-            (off, slicer.loops_at(off))
+            (off, slicer.nodes_at(off, e1, e2))
         })
         .collect();
     let largest = raw
@@ -815,10 +1111,6 @@ pub fn segment(
     };
     // Heights above the soles: slice k sits at (k + ½) step.
     let height_of = |slice: usize| (slice as Real + 0.5) * step;
-    let (e1, e2) = {
-        let e1 = up.any_perpendicular();
-        (e1, up.cross(e1))
-    };
 
     // 4. Graph.
     let mut nodes = Vec::new();
@@ -826,7 +1118,9 @@ pub fn segment(
     for (k, (_, loops)) in raw.iter().enumerate() {
         let mut ids = Vec::new();
         for l in loops {
-            nodes.push(Node::new(k, l, e1, e2));
+            let mut node = l.clone();
+            node.slice = k;
+            nodes.push(node);
             ids.push(nodes.len() - 1);
         }
         slice_nodes.push(ids);
@@ -892,7 +1186,9 @@ pub fn segment(
         cur = next;
     }
     let trunk_nodes = g.chain_nodes(&trunk_segs);
-    let top_node = *trunk_nodes.last().unwrap_or(&g.segments[crotch_seg].nodes[0]);
+    let top_node = *trunk_nodes
+        .last()
+        .unwrap_or(&g.segments[crotch_seg].nodes[0]);
     let crotch_node = g.segments[crotch_seg].nodes[0];
     let crotch_slice = g.nodes[crotch_node].slice;
     if g.nodes[top_node].slice < crotch_slice + n / 5 {
@@ -1231,10 +1527,21 @@ pub fn segment(
             .filter(|&a| g.nodes[a].slice > sole_slice + (half - sole_slice) / 4)
             .max_by(|&a, &b| g.nodes[a].hull_girth.total_cmp(&g.nodes[b].hull_girth))
             .unwrap_or(sole_node);
+        // Walking up from the sole the foot's widest slice comes first
+        // (the sole's first slices are small), then the ankle.
+        let calf_slice = g.nodes[calf].slice;
+        let foot_max = lower
+            .iter()
+            .copied()
+            .filter(|&a| 2 * g.nodes[a].slice < sole_slice + calf_slice)
+            .max_by(|&a, &b| g.nodes[a].hull_girth.total_cmp(&g.nodes[b].hull_girth))
+            .unwrap_or(sole_node);
         let ankle_node = lower
             .iter()
             .copied()
-            .filter(|&a| g.nodes[a].slice < g.nodes[calf].slice)
+            .filter(|&a| {
+                g.nodes[a].slice > g.nodes[foot_max].slice && g.nodes[a].slice < calf_slice
+            })
             .min_by(|&a, &b| g.nodes[a].hull_girth.total_cmp(&g.nodes[b].hull_girth))
             .unwrap_or(sole_node);
         let ankle_p = g.nodes[ankle_node].centroid;
@@ -1257,7 +1564,10 @@ pub fn segment(
             .filter(|&&a| g.nodes[a].slice >= ankle_slice)
             .map(|&a| (g.nodes[a].centroid, g.nodes[a].radius))
             .collect();
-        pts.insert(0, (crotch, g.nodes[*nodes.last().unwrap_or(&sole_node)].radius));
+        pts.insert(
+            0,
+            (crotch, g.nodes[*nodes.last().unwrap_or(&sole_node)].radius),
+        );
         let axis = smooth_axis(&pts, opts.axis_smoothing * extent, step);
         parts.push(PartAxis {
             name: leg,
@@ -1280,10 +1590,11 @@ pub fn segment(
         let f2 = Vec2::new(front.dot(e1), front.dot(e2));
         if let Some(d2) = principal_2d(&foot_pts) {
             let d2 = if d2.dot(f2) < 0.0 { -d2 } else { d2 };
-            let (lo, hi) = foot_pts.iter().fold(
-                (Real::INFINITY, Real::NEG_INFINITY),
-                |(lo, hi), p| (lo.min(p.dot(d2)), hi.max(p.dot(d2))),
-            );
+            let (lo, hi) = foot_pts
+                .iter()
+                .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p.dot(d2)), hi.max(p.dot(d2)))
+                });
             let across = d2.perp();
             let mean_across =
                 foot_pts.iter().map(|p| p.dot(across)).sum::<Real>() / foot_pts.len() as Real;
@@ -1309,8 +1620,16 @@ pub fn segment(
                 end: toe,
             });
             for (kind, p, how) in [
-                (heel, heel_p, "rearmost point of the foot's slices below the ankle"),
-                (toe, toe_p, "foremost point of the foot's slices below the ankle"),
+                (
+                    heel,
+                    heel_p,
+                    "rearmost point of the foot's slices below the ankle",
+                ),
+                (
+                    toe,
+                    toe_p,
+                    "foremost point of the foot's slices below the ankle",
+                ),
             ] {
                 landmarks.push(Landmark {
                     kind,
@@ -1321,7 +1640,9 @@ pub fn segment(
                 });
             }
         } else {
-            warnings.push(format!("{foot}: too few slices below the ankle for a foot axis"));
+            warnings.push(format!(
+                "{foot}: too few slices below the ankle for a foot axis"
+            ));
         }
     }
 
@@ -1358,13 +1679,23 @@ fn check_options(o: &SegmentOptions) -> Result<(), SegmentError> {
             why: "must be a fraction in (0, 1)",
         });
     }
-    if !frac(o.min_branch) || !frac(o.min_arm) || !(o.axis_smoothing.is_finite() && o.axis_smoothing >= 0.0) {
+    if !frac(o.min_branch)
+        || !frac(o.min_arm)
+        || !o.axis_smoothing.is_finite()
+        || o.axis_smoothing < 0.0
+    {
         return Err(SegmentError::BadOption {
             name: "min_branch, min_arm or axis_smoothing",
             why: "must be fractions of the height in (0, 1)",
         });
     }
-    if !(o.min_axis_ratio.is_finite() && o.min_axis_ratio >= 1.0) {
+    if !o.graph_cell.is_finite() || o.graph_cell <= 0.0 {
+        return Err(SegmentError::BadOption {
+            name: "graph_cell",
+            why: "must be finite and positive",
+        });
+    }
+    if !o.min_axis_ratio.is_finite() || o.min_axis_ratio < 1.0 {
         return Err(SegmentError::BadOption {
             name: "min_axis_ratio",
             why: "must be at least 1",
@@ -1392,10 +1723,12 @@ fn principal_axis(points: &[Point3], needed: Real) -> Result<Vec3, SegmentError>
     } else {
         Real::INFINITY
     };
-    if !(ratio >= needed) {
+    if ratio.partial_cmp(&needed) == Some(std::cmp::Ordering::Less) || ratio.is_nan() {
         return Err(SegmentError::NoUpAxis { ratio, needed });
     }
-    vecs[0].normalized().ok_or(SegmentError::NoUpAxis { ratio, needed })
+    vecs[0]
+        .normalized()
+        .ok_or(SegmentError::NoUpAxis { ratio, needed })
 }
 
 /// Principal direction of 2D points (unit), if the spread is not round.
@@ -1447,27 +1780,37 @@ fn smooth_axis(pts: &[(Point3, Real)], w: Real, step: Real) -> (Vec<Point3>, Vec
             pts.iter().map(|p| p.1).collect(),
         );
     }
-    let mut s = vec![0.0];
-    for k in 1..pts.len() {
-        let d = pts[k].0.distance(pts[k - 1].0);
-        s.push(s[k - 1] + d);
-    }
-    let smoothed: Vec<(Point3, Real)> = (0..pts.len())
+    // Window half-width in samples (one sample per slice, `step` apart
+    // in height), shrunk symmetrically near the ends.
+    let half = ((w / step.max(Real::MIN_POSITIVE)).round() as usize).min(pts.len());
+    let n = pts.len();
+    let window = |i: usize| {
+        let h = half.min(i).min(n - 1 - i);
+        (i - h, i + h)
+    };
+    // A running median first (a scan slice whose loop lost a piece moves
+    // its centroid for a slice or two), then a moving average.
+    let median: Vec<(Point3, Real)> = (0..n)
         .map(|i| {
-            if i == 0 || i + 1 == pts.len() {
-                return pts[i];
-            }
-            // Symmetric window, shrunk near the ends.
-            let half = w.min(s[i]).min(s[pts.len() - 1] - s[i]);
-            let (mut c, mut r, mut m) = (Vec3::ZERO, 0.0, 0.0);
-            for j in 0..pts.len() {
-                if (s[j] - s[i]).abs() <= half {
-                    c += pts[j].0;
-                    r += pts[j].1;
-                    m += 1.0;
-                }
-            }
-            (c / m, r / m)
+            let (a, b) = window(i);
+            let med = |f: &dyn Fn(&(Point3, Real)) -> Real| {
+                let mut v: Vec<Real> = pts[a..=b].iter().map(f).collect();
+                let k = v.len() / 2;
+                *v.select_nth_unstable_by(k, |x, y| x.total_cmp(y)).1
+            };
+            (
+                Vec3::new(med(&|p| p.0.x), med(&|p| p.0.y), med(&|p| p.0.z)),
+                med(&|p| p.1),
+            )
+        })
+        .collect();
+    let smoothed: Vec<(Point3, Real)> = (0..n)
+        .map(|i| {
+            let (a, b) = window(i);
+            let m = (b - a + 1) as Real;
+            let c = median[a..=b].iter().fold(Vec3::ZERO, |s, p| s + p.0) / m;
+            let r = median[a..=b].iter().map(|p| p.1).sum::<Real>() / m;
+            (c, r)
         })
         .collect();
     let mut len = vec![0.0];
@@ -1645,38 +1988,46 @@ fn find_wrist(
     let r = arm.max_radius();
     let centre = (mid + tip) * 0.5;
     let local = local_geometry(body, centre, 0.5 * len + 3.0 * r);
+    let slicer = match &local {
+        Local::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
+        Local::Cloud(c, _) => {
+            let spacing = spacing?;
+            let graph = ScanSectionOptions {
+                cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
+                closing_radius: opts.graph_closing,
+                ..opts.scan
+            };
+            AxisSlicer::Cloud(SlabComponents::new(&c.positions, dir, spacing, &graph).ok()?)
+        }
+    };
+    let e1 = dir.any_perpendicular();
+    let e2 = dir.cross(e1);
     let count = 40;
-    // Cuts at fractions 0.45..0.97 of the arm, as (fraction, hull girth, point).
+    // Cuts at fractions 0.45..0.97 of the arm: (fraction, hull girth, point).
     let mut cuts: Vec<(Real, Real, Point3)> = Vec::new();
     for i in 0..=count {
         let f = 0.45 + 0.52 * i as Real / count as Real;
         let (p, _) = arm.point_and_tangent(f)?;
-        let plane = Plane::new(p, dir).ok()?;
-        let loops = local_loops(&local, &plane, opts, spacing);
+        let nodes = slicer.nodes_at(p.dot(dir), e1, e2);
         // Hull of every loop near the axis point (fingers count as hand).
-        let mut pts: Vec<Point2> = Vec::new();
-        for (l, _) in &loops {
-            if l.centroid.distance(p) <= 1.5 * r {
-                pts.extend(l.points.iter().map(|&q| plane_coords(&plane, q)));
-            }
-        }
-        if pts.len() >= 3 {
-            let girth = hull_perimeter(&pts);
-            let mut c = Vec3::ZERO;
-            let mut m = 0.0;
-            for (l, _) in &loops {
-                if l.centroid.distance(p) <= 1.5 * r {
-                    c += l.centroid * l.area;
-                    m += l.area;
-                }
-            }
-            cuts.push((f, girth, if m > 0.0 { c / m } else { p }));
+        let near: Vec<&Node> = nodes
+            .iter()
+            .filter(|nd| nd.centroid.distance(p) <= 1.5 * r)
+            .collect();
+        let pts: Vec<Point2> = near.iter().flat_map(|nd| nd.poly.iter().copied()).collect();
+        let m: Real = near.iter().map(|nd| nd.area).sum();
+        if pts.len() >= 3 && m > 0.0 {
+            let c = near
+                .iter()
+                .fold(Vec3::ZERO, |s, nd| s + nd.centroid * nd.area)
+                / m;
+            cuts.push((f, hull_perimeter(&pts), c));
         }
     }
     if cuts.len() < 5 {
         return None;
     }
-    // The hand's widest cut in the distal third of the range.
+    // The hand's widest cut in the distal part of the range.
     let hand = cuts
         .iter()
         .filter(|c| c.0 >= 0.72)
@@ -1700,13 +2051,7 @@ fn find_wrist(
         position: wrist.2,
         height_fraction: 0.0,
         confidence: contrast,
-        how: "narrowest perpendicular cut of the forearm between the elbow and the hand's widest cut",
+        how:
+            "narrowest perpendicular cut of the forearm between the elbow and the hand's widest cut",
     })
-}
-
-fn plane_coords(plane: &Plane, q: Point3) -> Point2 {
-    let e1 = plane.normal.any_perpendicular();
-    let e2 = plane.normal.cross(e1);
-    let d = q - plane.origin;
-    Vec2::new(d.dot(e1), d.dot(e2))
 }

@@ -44,7 +44,10 @@ fn print(name: &str, s: &Segmentation) {
         "{name}: H = {:.4}, up {:?}, front {:?}, warnings {:?}",
         s.height,
         s.frame.up.to_array().map(|v| (v * 1000.0).round() / 1000.0),
-        s.frame.front.to_array().map(|v| (v * 1000.0).round() / 1000.0),
+        s.frame
+            .front
+            .to_array()
+            .map(|v| (v * 1000.0).round() / 1000.0),
         s.warnings
     );
     for l in &s.landmarks {
@@ -78,6 +81,20 @@ fn bodies_and_scan_table() {
             Err(e) => println!("{name}: {e}"),
         }
     }
+    if let Some(c) = scan() {
+        let t = std::time::Instant::now();
+        let s = segment(BodyGeometry::Cloud(&c), &SegmentOptions::default());
+        println!("time {:?}", t.elapsed());
+        match s {
+            Ok(s) => print("scan", &s),
+            Err(e) => println!("scan: {e}"),
+        }
+    }
+}
+
+#[test]
+#[ignore]
+fn debug_scan() {
     if let Some(c) = scan() {
         let t = std::time::Instant::now();
         let s = segment(BodyGeometry::Cloud(&c), &SegmentOptions::default());

@@ -1036,7 +1036,7 @@ pub fn segment(
             })?,
             true,
         ),
-        None => (principal_axis(positions, opts.min_axis_ratio)?, false),
+        None => (principal_axis(body, opts.min_axis_ratio)?, false),
     };
 
     // 2. Slices.
@@ -1704,17 +1704,65 @@ fn check_options(o: &SegmentOptions) -> Result<(), SegmentError> {
     Ok(())
 }
 
-/// The principal axis of largest variance, if it is distinct.
-fn principal_axis(points: &[Point3], needed: Real) -> Result<Vec3, SegmentError> {
-    let n = points.len() as Real;
-    let mean = points.iter().fold(Vec3::ZERO, |s, &p| s + p) / n;
-    let mut c = [[0.0; 3]; 3];
-    for p in points {
-        let d = (*p - mean).to_array();
+/// The principal axis of largest variance, if it is distinct. Meshes are
+/// weighted by surface area (uniform density over the triangles, whose
+/// second moment is `A [(aaᵀ + bbᵀ + ccᵀ)/12 + ¾ mmᵀ]` with `m` the
+/// centroid), so dense vertices (a face, the poles of a UV sphere) do not
+/// tilt it; clouds are taken point by point.
+fn principal_axis(body: BodyGeometry<'_>, needed: Real) -> Result<Vec3, SegmentError> {
+    let mut w = 0.0;
+    let mut first = Vec3::ZERO;
+    let mut second = [[0.0; 3]; 3];
+    let mut add = |p: Vec3, weight: Real, outer: &[[Real; 3]; 3]| {
+        w += weight;
+        first += p * weight;
         for i in 0..3 {
             for j in 0..3 {
-                c[i][j] += d[i] * d[j] / n;
+                second[i][j] += weight * outer[i][j];
             }
+        }
+    };
+    let outer = |v: Vec3| {
+        let a = v.to_array();
+        let mut o = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                o[i][j] = a[i] * a[j];
+            }
+        }
+        o
+    };
+    match body {
+        BodyGeometry::Mesh(m) if !m.triangles.is_empty() => {
+            for t in 0..m.triangles.len() {
+                let [a, b, c] = m.triangle(t);
+                let area = 0.5 * (b - a).cross(c - a).norm();
+                let centroid = (a + b + c) / 3.0;
+                let (oa, ob, oc, om) = (outer(a), outer(b), outer(c), outer(centroid));
+                let mut o = [[0.0; 3]; 3];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        o[i][j] = (oa[i][j] + ob[i][j] + oc[i][j]) / 12.0 + 0.75 * om[i][j];
+                    }
+                }
+                add(centroid, area, &o);
+            }
+        }
+        _ => {
+            for &p in body.positions() {
+                add(p, 1.0, &outer(p));
+            }
+        }
+    }
+    if w.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return Err(SegmentError::NoUpAxis { ratio: 1.0, needed });
+    }
+    let mean = first / w;
+    let om = outer(mean);
+    let mut c = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            c[i][j] = second[i][j] / w - om[i][j];
         }
     }
     let (vals, vecs) = symmetric_eigen3(c);
@@ -2054,4 +2102,205 @@ fn find_wrist(
         how:
             "narrowest perpendicular cut of the forearm between the elbow and the hand's widest cut",
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes;
+
+    fn cube(size: Real) -> Mesh {
+        let s = size;
+        let p = |x: Real, y: Real, z: Real| Vec3::new(x * s, y * s, z * s);
+        let positions = vec![
+            p(0.0, 0.0, 0.0),
+            p(1.0, 0.0, 0.0),
+            p(1.0, 1.0, 0.0),
+            p(0.0, 1.0, 0.0),
+            p(0.0, 0.0, 1.0),
+            p(1.0, 0.0, 1.0),
+            p(1.0, 1.0, 1.0),
+            p(0.0, 1.0, 1.0),
+        ];
+        let triangles = vec![
+            [0, 2, 1],
+            [0, 3, 2],
+            [4, 5, 6],
+            [4, 6, 7],
+            [0, 1, 5],
+            [0, 5, 4],
+            [1, 2, 6],
+            [1, 6, 5],
+            [2, 3, 7],
+            [2, 7, 6],
+            [3, 0, 4],
+            [3, 4, 7],
+        ];
+        Mesh::new(positions, triangles).unwrap()
+    }
+
+    fn not_standing(err: SegmentError) -> (&'static str, String) {
+        match err {
+            SegmentError::NotAStandingBody { what, why } => (what, why),
+            e => panic!("expected NotAStandingBody, got {e}"),
+        }
+    }
+
+    #[test]
+    fn sphere_has_no_up_axis() {
+        let ball = shapes::uv_sphere(Vec3::new(3.0, -2.0, 1.0), 0.5, 48, 96);
+        let err = segment(BodyGeometry::Mesh(&ball), &SegmentOptions::default()).unwrap_err();
+        assert!(matches!(err, SegmentError::NoUpAxis { .. }), "{err}");
+        assert!(err.to_string().contains("pass the up axis"));
+    }
+
+    #[test]
+    fn sphere_with_up_has_no_legs() {
+        let ball = shapes::uv_sphere(Vec3::ZERO, 0.5, 48, 96);
+        let opts = SegmentOptions {
+            up: Some(Vec3::Z),
+            ..Default::default()
+        };
+        let (what, why) = not_standing(segment(BodyGeometry::Mesh(&ball), &opts).unwrap_err());
+        assert_eq!(what, "two legs");
+        assert!(why.contains("never split into two feet"), "{why}");
+    }
+
+    #[test]
+    fn cube_is_rejected_with_or_without_up() {
+        let c = cube(2.0);
+        let err = segment(BodyGeometry::Mesh(&c), &SegmentOptions::default()).unwrap_err();
+        assert!(matches!(err, SegmentError::NoUpAxis { .. }), "{err}");
+        let opts = SegmentOptions {
+            up: Some(Vec3::new(0.0, 0.0, -1.0)),
+            ..Default::default()
+        };
+        let (what, _) = not_standing(segment(BodyGeometry::Mesh(&c), &opts).unwrap_err());
+        assert_eq!(what, "two legs");
+    }
+
+    #[test]
+    fn cube_cloud_is_rejected() {
+        let c = PointCloud::from(cube(1.0));
+        let err = segment(BodyGeometry::Cloud(&c), &SegmentOptions::default()).unwrap_err();
+        assert!(matches!(err, SegmentError::NoUpAxis { .. }), "{err}");
+    }
+
+    #[test]
+    fn long_cylinder_has_no_feet() {
+        let rod = shapes::cylinder(Vec3::ZERO, 0.1, 2.0, 40, 48);
+        let (what, why) = not_standing(
+            segment(BodyGeometry::Mesh(&rod), &SegmentOptions::default()).unwrap_err(),
+        );
+        assert_eq!(what, "two feet at either end of the longest axis");
+        assert!(why.contains("0 %"), "{why}");
+    }
+
+    #[test]
+    fn empty_and_bad_options_are_errors() {
+        let empty = PointCloud::default();
+        assert!(matches!(
+            segment(BodyGeometry::Cloud(&empty), &SegmentOptions::default()),
+            Err(SegmentError::Input(_))
+        ));
+        let ball = shapes::uv_sphere(Vec3::ZERO, 0.5, 8, 16);
+        for opts in [
+            SegmentOptions {
+                slices: 3,
+                ..Default::default()
+            },
+            SegmentOptions {
+                min_loop_area: Real::NAN,
+                ..Default::default()
+            },
+            SegmentOptions {
+                up: Some(Vec3::ZERO),
+                ..Default::default()
+            },
+        ] {
+            assert!(matches!(
+                segment(BodyGeometry::Mesh(&ball), &opts),
+                Err(SegmentError::BadOption { .. })
+            ));
+        }
+    }
+
+    /// The stick body's arms hang beside the trunk without touching it, so
+    /// no arm joins the trunk: a partial model that says so, never arms
+    /// guessed. Legs, crotch, trunk and head are found.
+    #[test]
+    fn stick_body_is_partial_with_warnings() {
+        let body = shapes::stick_body(2);
+        let s = segment(BodyGeometry::Mesh(&body), &SegmentOptions::default()).unwrap();
+        assert!(
+            (s.frame.up.dot(Vec3::Z) - 1.0).abs() < 1e-6,
+            "{:?}",
+            s.frame.up
+        );
+        let crotch = s.landmark(LandmarkKind::Crotch).unwrap();
+        // The trunk cylinder starts at z = 0.8 of a 1.66 tall body.
+        assert!(
+            (crotch.position.z - 0.8).abs() < 0.01,
+            "{:?}",
+            crotch.position
+        );
+        for name in [
+            PartName::Torso,
+            PartName::Head,
+            PartName::LeftLeg,
+            PartName::RightLeg,
+        ] {
+            assert!(s.part(name).is_some(), "{name} missing");
+        }
+        assert!(s.part(PartName::LeftArm).is_none());
+        assert!(s
+            .warnings
+            .iter()
+            .any(|w| w.starts_with("left arm not found")));
+        assert!(s
+            .warnings
+            .iter()
+            .any(|w| w.starts_with("right arm not found")));
+    }
+
+    #[test]
+    fn hull_and_box_filter() {
+        let sq = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.5, 0.5),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        assert!((hull_perimeter(&sq) - 4.0).abs() < 1e-12);
+        // Closing a one-cell gap in a row with radius 1.
+        let (w, h) = (9, 5);
+        let mut img = vec![false; w * h];
+        for x in [2, 3, 5, 6] {
+            img[2 * w + x] = true;
+        }
+        let closed = box_filter(&box_filter(&img, w, h, 1, true), w, h, 1, false);
+        assert!((2..=6).all(|x| closed[2 * w + x]));
+        assert!(!closed[2 * w + 1] && !closed[2 * w + 7]);
+    }
+
+    #[test]
+    fn axis_smoothing_keeps_a_line_and_resamples() {
+        let pts: Vec<(Point3, Real)> = (0..50)
+            .map(|i| (Vec3::new(0.0, 0.0, i as Real * 0.01), 0.1))
+            .collect();
+        let (p, r) = smooth_axis(&pts, 0.03, 0.01);
+        assert_eq!(p.len(), r.len());
+        assert!(p.iter().all(|q| q.x.abs() < 1e-12 && q.y.abs() < 1e-12));
+        assert!((p[0].z).abs() < 1e-12 && (p[p.len() - 1].z - 0.49).abs() < 1e-12);
+        let axis = PartAxis {
+            name: PartName::Torso,
+            points: p,
+            radii: r,
+            start: LandmarkKind::Crotch,
+            end: LandmarkKind::Neck,
+        };
+        let (q, t) = axis.point_and_tangent(0.5).unwrap();
+        assert!((q.z - 0.245).abs() < 1e-9 && (t.z - 1.0).abs() < 1e-9);
+    }
 }

@@ -145,9 +145,12 @@ pub struct SegmentOptions {
     /// parts are, not their outlines; 4 times fewer cells than the scan
     /// sections).
     pub graph_cell: Real,
-    /// Closing radius (cells) of the graph's occupancy images. Default 1
-    /// (with cells twice as large, the same 4-spacing gaps close as with
-    /// the scan sections' 2).
+    /// Closing radius (cells) of the graph's occupancy images. Default 0:
+    /// cells of twice the spacing are already contiguous on a scanned
+    /// surface, and any closing bridges the narrow gap between the thighs
+    /// below the crotch (measured on virtual scans: a closing of one cell
+    /// put the crotch 3 % of the height low). Rings broken by holes become
+    /// arcs, which the graph's pruning absorbs.
     pub graph_closing: usize,
 }
 
@@ -165,7 +168,7 @@ impl Default for SegmentOptions {
             section: SectionOptions::default(),
             scan: ScanSectionOptions::default(),
             graph_cell: 2.0,
-            graph_closing: 1,
+            graph_closing: 0,
         }
     }
 }
@@ -1207,26 +1210,36 @@ pub fn segment(
                 why: "must be finite, non-zero and not parallel to up",
             })?,
         None => {
-            let mean_c = |lo: Real, hi: Real| {
-                let (mut s, mut w) = (Vec3::ZERO, 0.0);
-                for (k, (_, loops)) in raw.iter().enumerate() {
-                    let f = (k as Real + 0.5) / n as Real;
-                    if f >= lo && f < hi {
-                        for l in loops {
-                            s += l.centroid * l.area;
-                            w += l.area;
+            // Per leg: the area centroid of its slices 1-3 % of the
+            // height above the floor minus that of its slices 6-9 % above
+            // it; the two legs' unit directions are averaged (one leg at a
+            // time, so a slightly tilted axis that cuts one foot lower than
+            // the other does not pull the answer sideways).
+            let leg_dir = |chain: &[usize]| {
+                let nodes = g.chain_nodes(chain);
+                let mean_c = |lo: Real, hi: Real| {
+                    let (mut s, mut w) = (Vec3::ZERO, 0.0);
+                    for &a in &nodes {
+                        let f = (g.nodes[a].slice as Real + 0.5) / n as Real;
+                        if f >= lo && f < hi {
+                            s += g.nodes[a].centroid * g.nodes[a].area;
+                            w += g.nodes[a].area;
                         }
                     }
+                    (w > 0.0).then(|| s / w)
+                };
+                match (mean_c(0.01, 0.03), mean_c(0.06, 0.09)) {
+                    (Some(a), Some(b)) => {
+                        let d = a - b;
+                        d - up * d.dot(up)
+                    }
+                    _ => Vec3::ZERO,
                 }
-                (w > 0.0).then(|| s / w)
             };
-            let dir = match (mean_c(0.01, 0.03), mean_c(0.06, 0.09)) {
-                (Some(a), Some(b)) => {
-                    let d = a - b;
-                    d - up * d.dot(up)
-                }
-                _ => Vec3::ZERO,
-            };
+            let (da, db) = (leg_dir(&chain_a), leg_dir(&chain_b));
+            let dir = (da.normalized().unwrap_or(Vec3::ZERO)
+                + db.normalized().unwrap_or(Vec3::ZERO))
+                * (0.25 * (da.norm() + db.norm()));
             if dir.norm() < 0.005 * extent {
                 warnings.push(format!(
                     "front direction weakly determined: the feet reach only {:.2} % of the height in front of the ankles",
@@ -1503,14 +1516,6 @@ pub fn segment(
         };
         let (leg, foot, ankle, sole, heel, toe) = names;
         let sole_node = nodes[0];
-        let sole_p = at_height(g.nodes[sole_node].centroid, 0.0);
-        landmarks.push(Landmark {
-            kind: sole,
-            position: sole_p,
-            height_fraction: 0.0,
-            confidence: 1.0,
-            how: "lowest slice of the leg's branch, on the floor",
-        });
         // Ankle: smallest hull girth below the calf's widest slice (the
         // widest slice in the lower half of the leg).
         let top_slice = g.nodes[*nodes.last().unwrap_or(&sole_node)].slice;
@@ -1639,10 +1644,24 @@ pub fn segment(
                     how,
                 });
             }
+            landmarks.push(Landmark {
+                kind: sole,
+                position: at_height((heel_p + toe_p) * 0.5, 0.0),
+                height_fraction: 0.0,
+                confidence: 1.0,
+                how: "middle of the foot (heel to toe), on the floor",
+            });
         } else {
             warnings.push(format!(
                 "{foot}: too few slices below the ankle for a foot axis"
             ));
+            landmarks.push(Landmark {
+                kind: sole,
+                position: at_height(ankle_p, 0.0),
+                height_fraction: 0.0,
+                confidence: 0.5,
+                how: "below the ankle, on the floor (no foot axis)",
+            });
         }
     }
 

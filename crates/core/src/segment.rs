@@ -445,8 +445,14 @@ impl<'a> AxisSlicer<'a> {
 #[derive(Debug)]
 struct SlabComponents {
     axis: Vec3,
+    /// Points and heights in bin order (sorted by bin, not within a bin).
     points: Vec<Point3>,
     heights: Vec<Real>,
+    /// Bin `b` holds `points[bin_start[b]..bin_start[b + 1]]`.
+    bin_start: Vec<usize>,
+    bin_low: Real,
+    bin_width: Real,
+    range: (Real, Real),
     spacing: Real,
     half_thickness: Real,
     cell: Real,
@@ -474,12 +480,43 @@ impl SlabComponents {
                 why: "must be finite and positive",
             }),
         };
-        let mut keyed: Vec<(Real, Point3)> = points.iter().map(|&p| (p.dot(axis), p)).collect();
-        keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+        // Bucket (counting) sort by height into bins of about a quarter
+        // of the point spacing: linear time, and a slab is a run of bins
+        // (points of its two end bins are checked one by one).
+        let heights: Vec<Real> = points.iter().map(|p| p.dot(axis)).collect();
+        let (lo, hi) = heights
+            .iter()
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(a, b), &h| {
+                (a.min(h), b.max(h))
+            });
+        let bins =
+            (((hi - lo) / (0.25 * spacing)).ceil() as usize).clamp(1, 4 * points.len().max(1));
+        let width = ((hi - lo) / bins as Real).max(Real::MIN_POSITIVE);
+        let bin_of = |h: Real| (((h - lo) / width) as usize).min(bins - 1);
+        let mut start = vec![0usize; bins + 1];
+        for &h in &heights {
+            start[bin_of(h) + 1] += 1;
+        }
+        for b in 0..bins {
+            start[b + 1] += start[b];
+        }
+        let mut fill = start.clone();
+        let mut sorted_points = vec![Vec3::ZERO; points.len()];
+        let mut sorted_heights = vec![0.0; points.len()];
+        for (i, &h) in heights.iter().enumerate() {
+            let b = bin_of(h);
+            sorted_points[fill[b]] = points[i];
+            sorted_heights[fill[b]] = h;
+            fill[b] += 1;
+        }
         Ok(SlabComponents {
             axis,
-            heights: keyed.iter().map(|k| k.0).collect(),
-            points: keyed.into_iter().map(|k| k.1).collect(),
+            heights: sorted_heights,
+            points: sorted_points,
+            bin_start: start,
+            bin_low: lo,
+            bin_width: width,
+            range: (lo, hi),
             spacing,
             half_thickness: len(o.half_thickness, "scan.half_thickness")?,
             cell: len(o.cell_size, "scan.cell_size")?,
@@ -490,23 +527,29 @@ impl SlabComponents {
     }
 
     fn range(&self) -> (Real, Real) {
-        (
-            self.heights.first().copied().unwrap_or(0.0),
-            self.heights.last().copied().unwrap_or(0.0),
-        )
+        self.range
     }
 
     fn nodes_at(&self, offset: Real, e1: Vec3, e2: Vec3) -> Vec<Node> {
         let t = self.half_thickness;
-        let lo = self.heights.partition_point(|&h| h < offset - t);
-        let hi = self.heights.partition_point(|&h| h <= offset + t);
-        if hi - lo < self.min_points {
+        let bins = self.bin_start.len() - 1;
+        let bin = |h: Real| ((h - self.bin_low) / self.bin_width).floor();
+        let (b0, b1) = (bin(offset - t), bin(offset + t));
+        if !(b0.is_finite() && b1.is_finite()) || b1 < 0.0 || b0 >= bins as Real {
             return Vec::new();
         }
-        let pts: Vec<Point2> = self.points[lo..hi]
-            .iter()
-            .map(|&p| Vec2::new(p.dot(e1), p.dot(e2)))
+        let (b0, b1) = ((b0.max(0.0)) as usize, (b1 as usize).min(bins - 1));
+        let range = self.bin_start[b0]..self.bin_start[b1 + 1];
+        let pts: Vec<Point2> = range
+            .filter(|&i| (self.heights[i] - offset).abs() <= t)
+            .map(|i| {
+                let p = self.points[i];
+                Vec2::new(p.dot(e1), p.dot(e2))
+            })
             .collect();
+        if pts.len() < self.min_points {
+            return Vec::new();
+        }
         let (mut min, mut max) = (pts[0], pts[0]);
         for p in &pts {
             min = Vec2::new(min.x.min(p.x), min.y.min(p.y));
@@ -539,7 +582,11 @@ impl SlabComponents {
         for &c in &cells {
             img[c] = true;
         }
-        let img = box_filter(&box_filter(&img, w, h, r, true), w, h, r, false);
+        let img = if r > 0 {
+            box_filter(&box_filter(&img, w, h, r, true), w, h, r, false)
+        } else {
+            img
+        };
         // 8-connected components.
         let mut label = vec![u32::MAX; w * h];
         let mut comps: Vec<Vec<usize>> = Vec::new();

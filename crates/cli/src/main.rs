@@ -5,6 +5,8 @@
 //! file, line or value), 1 internal failure.
 
 mod cmd_fit;
+mod cmd_scan;
+mod cmd_sections;
 mod examples;
 mod exit;
 
@@ -26,6 +28,10 @@ enum Command {
     /// Fit the bundled real cross-sections (torso, waist, neck, thigh, calf,
     /// upper arm) and compare each with the ellipse baseline.
     Examples(examples::ExamplesArgs),
+    /// Cut a mesh or a scan with parallel planes and fit every loop.
+    Sections(cmd_sections::SectionsArgs),
+    /// Make a virtual multi-view scan (points with normals) of a mesh.
+    Scan(cmd_scan::ScanArgs),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +46,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Fit(args) => cmd_fit::run(args),
         Command::Examples(args) => examples::run(args),
+        Command::Sections(args) => cmd_sections::run(args),
+        Command::Scan(args) => cmd_scan::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1389,11 +1389,57 @@ pub fn segment(
             )
         };
         let Some((nodes, m)) = found else {
-            warnings.push(format!(
-                "{pname} not found: no branch of at least {:.0} % of the height joins the trunk on the body's {} side above the crotch (missing arm, arm touching the body, or T-pose)",
-                100.0 * opts.min_arm,
-                if k == 0 { "left" } else { "right" }
-            ));
+            // No arm hangs from the trunk on this side: look for one held
+            // out sideways (T-pose) in slices across the body.
+            let side = if k == 0 { left } else { -left };
+            let lateral = lateral_arm(
+                body,
+                opts,
+                side,
+                up,
+                floor + crotch_h,
+                opts.min_arm * extent,
+                step,
+            );
+            let Some(found) = lateral else {
+                warnings.push(format!(
+                    "{pname} not found: no branch of at least {:.0} % of the height joins the trunk on the body's {} side above the crotch, hanging down or held out sideways (missing arm, or arm touching the body)",
+                    100.0 * opts.min_arm,
+                    if k == 0 { "left" } else { "right" }
+                ));
+                continue;
+            };
+            let pit_h = found.armpit.dot(up) - floor;
+            armpit_slice = armpit_slice.max((pit_h / step) as usize);
+            landmarks.push(Landmark {
+                kind: pit,
+                position: found.armpit,
+                height_fraction: pit_h / extent,
+                confidence: 1.0,
+                how: "the arm's branch in slices across the body merges into the trunk (arm held out)",
+            });
+            landmarks.push(Landmark {
+                kind: tip,
+                position: found.tip,
+                height_fraction: hfrac(found.tip),
+                confidence: 0.8,
+                how: "outermost slice across the body of the arm's branch",
+            });
+            let axis = smooth_axis(&found.axis, opts.axis_smoothing * extent, step);
+            let part = PartAxis {
+                name: arm,
+                points: axis.0,
+                radii: axis.1,
+                start: pit,
+                end: tip,
+            };
+            if let Some(mut w) = find_wrist(body, &part, opts, slicer.spacing(), wrist) {
+                w.height_fraction = hfrac(w.position);
+                landmarks.push(w);
+            } else {
+                warnings.push(format!("{pname}: wrist not found on perpendicular cuts"));
+            }
+            parts.push(part);
             continue;
         };
         let last = *nodes.last().unwrap_or(&nodes[0]);
@@ -2080,6 +2126,94 @@ pub fn cut_part(
         plane,
         outline,
         scan_indices,
+    })
+}
+
+/// An arm found in slices across the body.
+struct LateralArm {
+    /// Centroids and radii from the shoulder junction out to the hand.
+    axis: Vec<(Point3, Real)>,
+    armpit: Point3,
+    tip: Point3,
+}
+
+/// An arm held out sideways (T-pose): horizontal slices cut it lengthwise,
+/// so it never branches off the trunk there. Slices normal to `side` (the
+/// body's left or right), ordered from the outermost inward, show the arm
+/// as a branch that starts at the body's lateral end and merges into the
+/// trunk at the shoulder: the same graph as the vertical one, on another
+/// axis. The branch must start in the outer 10 % of the lateral extent,
+/// lie above the crotch and reach `min_len` inward.
+fn lateral_arm(
+    body: BodyGeometry<'_>,
+    opts: &SegmentOptions,
+    side: Vec3,
+    up: Vec3,
+    crotch_level: Real,
+    min_len: Real,
+    step: Real,
+) -> Option<LateralArm> {
+    // Heights along −side grow inward: the outermost slice is the first.
+    let axis = -side;
+    let slicer = AxisSlicer::new(body, axis, opts).ok()?;
+    let (min, max) = slicer.range();
+    let count = (((max - min) / step).ceil() as usize).clamp(50, 4000);
+    let lstep = (max - min) / count as Real;
+    let e1 = axis.any_perpendicular();
+    let e2 = axis.cross(e1);
+    let mut nodes = Vec::new();
+    let mut slice_nodes = Vec::with_capacity(count);
+    let mut largest: Real = 0.0;
+    let mut raw = Vec::with_capacity(count);
+    for k in 0..count {
+        let found = slicer.nodes_at(min + (k as Real + 0.5) * lstep, e1, e2);
+        largest = found.iter().map(|nd| nd.area).fold(largest, Real::max);
+        raw.push(found);
+    }
+    for (k, found) in raw.into_iter().enumerate() {
+        let mut ids = Vec::new();
+        for mut nd in found {
+            if nd.area >= opts.min_loop_area * largest {
+                nd.slice = k;
+                nodes.push(nd);
+                ids.push(nodes.len() - 1);
+            }
+        }
+        slice_nodes.push(ids);
+    }
+    let mut g = Graph::new(nodes, &slice_nodes);
+    let min_span = ((opts.min_branch * count as Real).ceil() as usize).max(2);
+    g.prune(min_span);
+    let best = (0..g.segments.len())
+        .filter(|&s| g.segments[s].parents.is_empty())
+        .filter(|&s| g.nodes[g.segments[s].nodes[0]].slice <= count / 10)
+        .filter_map(|s| {
+            let (chain, merge) = g.chain_up(s);
+            merge?;
+            let ids = g.chain_nodes(&chain);
+            let first = *ids.first()?;
+            let last = *ids.last()?;
+            let span = (g.nodes[last].slice - g.nodes[first].slice + 1) as Real * lstep;
+            let above = ids
+                .iter()
+                .all(|&a| g.nodes[a].centroid.dot(up) > crotch_level);
+            (span >= min_len && above).then_some(ids)
+        })
+        .max_by_key(|ids| ids.len())?;
+    let first = *best.first()?;
+    let last = *best.last()?;
+    let mut axis_pts: Vec<(Point3, Real)> = best
+        .iter()
+        .rev()
+        .map(|&a| (g.nodes[a].centroid, g.nodes[a].radius))
+        .collect();
+    let tip = g.nodes[first].centroid + axis * (min - g.nodes[first].centroid.dot(axis));
+    axis_pts.push((tip, g.nodes[first].radius));
+    let armpit = g.nodes[last].centroid + axis * (0.5 * lstep);
+    Some(LateralArm {
+        axis: axis_pts,
+        armpit,
+        tip,
     })
 }
 

@@ -450,3 +450,85 @@ fn perpendicular_cuts_of_parts() {
         assert!(ratio < 0.9, "{name}: {ratio}");
     }
 }
+
+/// A T-pose made from the A-pose male: each arm's vertices (outside a
+/// boundary that leaves the trunk and hips alone) are turned up about the
+/// shoulder by up to 38°, blended over 8 cm so the surface stays whole.
+fn t_pose(mesh: &Mesh) -> Mesh {
+    let smooth = |t: f64| {
+        let t = t.clamp(0.0, 1.0);
+        t * t * (3.0 - 2.0 * t)
+    };
+    let angle = 38f64.to_radians();
+    let positions = mesh
+        .positions
+        .iter()
+        .map(|&p| {
+            let ax = p.x.abs();
+            let boundary = 0.20 + (0.48 - p.y).max(0.0) * 0.35;
+            let w = smooth((ax - boundary + 0.04) / 0.08);
+            if w == 0.0 {
+                return p;
+            }
+            let sign = p.x.signum();
+            let pivot = Vec3::new(0.17 * sign, 0.50, p.z);
+            let th = angle * w * sign;
+            let (s, c) = th.sin_cos();
+            let d = p - pivot;
+            pivot + Vec3::new(d.x * c - d.y * s, d.x * s + d.y * c, 0.0)
+        })
+        .collect();
+    Mesh {
+        positions,
+        normals: None,
+        triangles: mesh.triangles.clone(),
+    }
+}
+
+/// Arms held out sideways do not branch in horizontal slices; they are
+/// found in slices across the body, with the same landmarks.
+#[test]
+fn t_pose_arms_are_found_across_the_body() {
+    let Some((_, mesh)) = bodies().into_iter().find(|(n, _)| n == "mh_male.obj") else {
+        return;
+    };
+    let body = t_pose(&mesh);
+    let mut inputs: Vec<(&str, BodyGeometry)> = vec![("T-pose mesh", BodyGeometry::Mesh(&body))];
+    let scan = virtual_scan(
+        &body,
+        &ScannerOptions {
+            points: 150_000,
+            resolution: 512,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    inputs.push(("T-pose scan", BodyGeometry::Cloud(&scan.cloud)));
+    for (name, input) in inputs {
+        let s = segment(input, &SegmentOptions::default()).unwrap();
+        print(name, &s);
+        assert!(s.warnings.is_empty(), "{name}: {:?}", s.warnings);
+        for p in ALL_PARTS {
+            assert!(s.part(p).is_some(), "{name}: {p} missing");
+        }
+        for (arm, sign) in [(PartName::LeftArm, 1.0), (PartName::RightArm, -1.0)] {
+            let a = s.part(arm).unwrap();
+            let d = (a.points[a.points.len() - 1] - a.points[0])
+                .normalized()
+                .unwrap();
+            // Out sideways (the hands are held a little forward).
+            assert!(
+                d.x * sign > 0.85 && d.y.abs() < 0.15,
+                "{name}: {arm} runs along {d:?}"
+            );
+        }
+        for kind in [LandmarkKind::LeftWrist, LandmarkKind::RightWrist] {
+            let h = s.landmark(kind).unwrap().height_fraction;
+            assert!((0.74..=0.84).contains(&h), "{name}: {kind} at {h}");
+        }
+        let c = s.landmark(LandmarkKind::Crotch).unwrap().height_fraction;
+        assert!((0.44..=0.50).contains(&c), "{name}: crotch {c}");
+        let n = s.landmark(LandmarkKind::Neck).unwrap().height_fraction;
+        assert!((0.83..=0.89).contains(&n), "{name}: neck {n}");
+    }
+}

@@ -1,84 +1,129 @@
-//! Segmentation of a standing body (A-pose) into torso, head with neck, two
-//! arms with hands, two legs and two feet (method.md §8.1-§8.4), for a
-//! triangle mesh or a scanned point cloud alike.
+//! Segmentation of a standing body (A-pose or T-pose) into torso, head with
+//! neck, two arms with hands, two legs and two feet (method.md §8.1-§8.4),
+//! for a triangle mesh or a scanned point cloud alike, with the landmarks
+//! that separate them (crotch, armpits, neck, wrists, ankles, head top,
+//! soles, heels, toes) and a smoothed axis per part that [`cut_part`] cuts
+//! across.
+//!
+//! ```no_run
+//! # fn load() -> trigbody_core::Mesh { unimplemented!() }
+//! use trigbody_core::segment::{cut_part, segment, BodyGeometry, PartName, SegmentOptions};
+//! let mesh = load();
+//! let body = BodyGeometry::Mesh(&mesh);
+//! let opts = SegmentOptions::default();
+//! let seg = segment(body, &opts)?;
+//! for w in &seg.warnings {
+//!     eprintln!("warning: {w}");
+//! }
+//! // The forearm cut across its own axis, halfway along the arm.
+//! let cut = cut_part(body, &seg, PartName::LeftArm, 0.5, &opts)?;
+//! println!("{} points, girth {}", cut.outline.points.len(), cut.outline.perimeter);
+//! # Ok::<(), trigbody_core::segment::SegmentError>(())
+//! ```
 //!
 //! # The algorithm
 //!
 //! Nothing below knows a coordinate, a size or a vertex order of any
 //! particular body: every length is a fraction of the body's own height `H`
-//! (its extent along the up axis), every area a fraction of the largest
-//! section area.
+//! (its extent along the up axis) or a multiple of a scan's point spacing,
+//! every area a fraction of the largest section area.
 //!
 //! 1. **Up axis.** [`SegmentOptions::up`] if given, else the principal axis
-//!    of the points with the largest variance. It must be distinct: when the
-//!    largest variance is less than [`SegmentOptions::min_axis_ratio`] times
-//!    the second (a sphere, a cube) there is no long axis and the result is
-//!    [`SegmentError::NoUpAxis`].
+//!    of largest variance (meshes weighted by surface area, so dense vertex
+//!    regions do not tilt it; clouds point by point). It must be distinct:
+//!    when the largest variance is less than
+//!    [`SegmentOptions::min_axis_ratio`] times the second (a sphere, a cube)
+//!    the result is [`SegmentError::NoUpAxis`]. A body lying down is found
+//!    lying down: its longest axis is still its height.
 //! 2. **Slices.** The body is cut by [`SegmentOptions::slices`] planes
-//!    normal to the axis, evenly spread over its extent (mesh: plane
-//!    sections through [`MeshSlicer`]; cloud: slab sections through
-//!    [`CloudSlicer`]; both sort the input by height once). Loops whose area
-//!    is below [`SegmentOptions::min_loop_area`] times the largest loop of
-//!    all slices are dropped (fingers, noise, the grazing cut at either end).
+//!    normal to the axis, evenly spread over its extent. Mesh: plane
+//!    sections through [`MeshSlicer`]. Cloud: slabs as in [`CloudSlicer`]
+//!    (half-thickness one point spacing `s`, an occupancy image, its
+//!    8-connected components), but with cells of
+//!    [`SegmentOptions::graph_cell`] × `s` and without ordering the points
+//!    along loops, which the graph does not need: each component stands as
+//!    the convex hull of its points (area, centroid, girth). A ring broken
+//!    by a scanner hole has no inside to fill, but its hull is still the
+//!    section's outline. Loops smaller than
+//!    [`SegmentOptions::min_loop_area`] times the largest loop of all
+//!    slices are dropped (fingers, noise, the grazing cut at either end).
 //! 3. **Sign of the axis** (only when the axis came from the principal
 //!    axes). The feet end is the end whose slices have two loops (two feet);
 //!    the head end has one. Over the outer 2-9 % of the extent at either
 //!    end, the share of slices with two or more loops is measured; the end
-//!    with the clearly larger share is the bottom. When neither end has two
-//!    feet the result is [`SegmentError::NotAStandingBody`].
+//!    with a share larger by at least one half is the bottom. When neither
+//!    end has two feet the result is [`SegmentError::NotAStandingBody`].
 //! 4. **Slice graph.** Loops of neighbouring slices are linked when they
 //!    overlap: the centroid of one lies inside the other, or the centroids
 //!    are closer than half the sum of the loops' equivalent radii
-//!    `r = √(A/π)`. A loop without a link to the next slice may link to the
-//!    slice after it (a scan slab that lost a loop). Maximal chains of
+//!    `r = √(A/π)`. A loop without a link upward may link up to three
+//!    slices further (a scan slab that lost a loop). Maximal chains of
 //!    one-to-one links are *segments*; a segment's *parents* are the
 //!    segments linked below its first loop, its *children* those above its
-//!    last. Short dead ends (spurs shorter than
-//!    [`SegmentOptions::min_branch`] × `H`: a thumb, a noise blob, a scan
-//!    loop that split for a few slices) and the smaller side of short
-//!    bubbles (a ring that split in two and joined again) are removed, and
-//!    the segments rebuilt, until nothing changes.
+//!    last. Segments shorter than [`SegmentOptions::min_branch`] × `H` are
+//!    removed when they are dead ends (a thumb, a noise blob), fragments
+//!    (less than 30 % of the area of a neighbour: a scan ring that broke
+//!    for a slice) or the smaller side of a bubble (split and joined
+//!    again) — inner pieces only while every neighbour keeps a link, so a
+//!    trunk that broke into pieces for a slice keeps its largest piece —
+//!    and the segments are rebuilt until nothing changes.
 //! 5. **Parts.** The *legs* are the two segments without parents that start
 //!    in the lowest tenth of the height; each is followed up through
 //!    one-to-one continuations to the segment where it merges: both must
 //!    merge into the same one, and its first loop is the **crotch**. The
 //!    *trunk path* runs up from there, taking the child of largest area at
 //!    any split, to a segment without children: the **head top**. The
-//!    *arms* are the other segments without parents, at least a tenth of the
-//!    height long, whose chain merges into the trunk path above the crotch;
-//!    the merge is the **armpit**, and the side (left or right) is the sign
-//!    of the arm's offset from the trunk along `left`. A missing arm is a
-//!    warning and a partial model; missing legs or a missing crotch are
-//!    errors naming what was not found.
+//!    *arms* are the other segments without parents, at least
+//!    [`SegmentOptions::min_arm`] × `H` long, whose chain merges into the
+//!    trunk path above the crotch; the merge is the **armpit**, and the side
+//!    is the sign of the arm's offset from the trunk along `left`.
+//!    **T-pose:** an arm held out sideways never branches in horizontal
+//!    slices, so when a side has no hanging arm the same graph is built on
+//!    slices across the body (normal to `left`, from the outermost slice
+//!    inward): a branch that starts in the outer tenth, lies above the
+//!    crotch and merges into the trunk is the arm, the merge its armpit.
+//!    A missing arm is a warning and a partial model; missing legs or a
+//!    missing crotch are errors naming what was not found.
 //! 6. **Front** ([`SegmentOptions::front`] if given): the feet point
-//!    forward, so the area centroid of the slices 1-3 % of `H` above the
-//!    soles lies in front of the centroid of the slices 6-9 % above them.
-//!    The horizontal part of that offset is the front; `left = up × front`.
+//!    forward. For each leg, the area centroid of its slices 1-3 % of `H`
+//!    above the floor minus that of its slices 6-9 % above it, made
+//!    horizontal; the two legs' unit directions are averaged (each leg on
+//!    its own, so a slightly tilted axis that cuts one foot lower does not
+//!    pull the answer sideways). `left = up × front`. A foot that reaches
+//!    less than 0.5 % of `H` forward gives a warning.
 //! 7. **Landmarks on branches.** The **neck** is the smallest convex-hull
-//!    girth of the trunk path between the widest slice of the head and the
-//!    highest armpit. The **ankle** is the smallest hull girth of a leg
-//!    between the sole and the widest slice of the calf. The **wrist** is
-//!    found on cuts *perpendicular* to the arm's axis (horizontal cuts of an
-//!    arm at 45° are skewed): walking up the arm from the hand, the widest
-//!    cut of the hand comes first, then the narrowest cut of the forearm
-//!    below the elbow is the wrist.
+//!    girth of the trunk path between the highest armpit and the head's
+//!    widest slice. The **ankle** is the smallest hull girth of a leg
+//!    between the foot's widest slice and the calf's widest slice. The
+//!    **wrist** is found on cuts *perpendicular* to the arm's axis
+//!    (horizontal cuts of an arm at 45° are skewed): walking up the arm from
+//!    the hand, the widest cut of the hand comes first, then the narrowest
+//!    cut between it and the middle of the arm is the wrist. The **sole**
+//!    is the middle of the foot on the floor; **heel** and **toe** the ends
+//!    of the foot's axis.
 //! 8. **Axes.** Each part's axis is the polyline of its loops' area
-//!    centroids, smoothed by a moving average over
-//!    [`SegmentOptions::axis_smoothing`] × `H` and resampled evenly by arc
-//!    length, oriented as method.md §2 asks (up for torso and head, away
-//!    from the trunk for limbs). Feet get a straight axis from heel to toe:
-//!    the principal horizontal direction of the foot's slices below the
-//!    ankle, oriented to the front, at a third of the ankle height.
-//!    [`cut_part`] cuts a part again with the plane perpendicular to its
-//!    axis at a given arc-length fraction and returns the part's loop.
+//!    centroids, smoothed by a running median and then a moving average
+//!    over ± [`SegmentOptions::axis_smoothing`] × `H`, and resampled evenly
+//!    by arc length, oriented as method.md §2 asks (up for torso and head,
+//!    away from the trunk for limbs): torso crotch → neck, head neck → top,
+//!    arms armpit → hand tip, legs crotch → ankle. Feet get a straight
+//!    axis from heel to toe: the principal horizontal direction of the
+//!    foot's slices below the ankle, oriented to the front, at a third of
+//!    the ankle height. [`cut_part`] cuts a part again with the plane
+//!    perpendicular to its axis at a given arc-length fraction and returns
+//!    the part's loop (a plane across a foot behind the ankle runs up the
+//!    leg; cut feet in front of it).
 //!
-//! Heights in the results are measured from the soles along `up`; the
-//! landmarks carry their height as a fraction of `H`. Units are the input's
-//! (nothing assumes metres).
+//! Heights in the results are measured from the floor (the lowest point
+//! along `up`); landmarks carry their height as a fraction of `H`. Units
+//! are the input's: nothing assumes metres.
 //!
-//! T-pose arms (horizontal, merging into the shoulders) do not branch in
-//! horizontal slices; they are reported as not found (a warning naming
-//! them), not guessed.
+//! Not handled (reported, not guessed): a hand touching the thigh or hip
+//! (the legs then do not merge only with each other: an error naming the
+//! crotch), arms above the head, sitting poses. The hand tip is the last
+//! slice of the arm's branch: fingers thinner than
+//! [`SegmentOptions::min_loop_area`] are dropped, so it can lie a few
+//! centimetres short of the fingertips.
 
 use crate::linalg::symmetric_eigen3;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};

@@ -1136,40 +1136,68 @@ pub fn segment(
 
     // 2. Slices.
     let slicer = AxisSlicer::new(body, axis, opts)?;
-    let (min, max) = slicer.range();
-    let extent = max - min;
-    if extent.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        return Err(SegmentError::NotAStandingBody {
-            what: "a body",
-            why: "the input has no extent along the up axis".into(),
-        });
-    }
+    let (mut min, mut max) = slicer.range();
     let n = opts.slices;
-    let step = extent / n as Real;
     // Plane coordinates shared by all slices (any orthonormal pair ⊥ axis).
     let (e1, e2) = {
         let e1 = axis.any_perpendicular();
         (e1, axis.cross(e1))
     };
-    let mut raw: Vec<(Real, Vec<Node>)> = (0..n)
-        .map(|k| {
-            let off = min + (k as Real + 0.5) * step;
-            (off, slicer.nodes_at(off, e1, e2))
-        })
-        .collect();
-    let largest = raw
-        .iter()
-        .flat_map(|(_, l)| l.iter().map(|l| l.area))
-        .fold(0.0, Real::max);
-    if largest.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-        return Err(SegmentError::NotAStandingBody {
-            what: "a body",
-            why: "no slice has a closed loop".into(),
-        });
+    // Slice, drop small loops; then, if two or more slices at an end hold
+    // nothing (stray scan points far beyond the body), slice again over
+    // the range that holds loops, so that H is the body's height.
+    let mut raw: Vec<(Real, Vec<Node>)>;
+    let mut pass = 0;
+    loop {
+        if (max - min).partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return Err(SegmentError::NotAStandingBody {
+                what: "a body",
+                why: "the input has no extent along the up axis".into(),
+            });
+        }
+        let step = (max - min) / n as Real;
+        raw = (0..n)
+            .map(|k| {
+                let off = min + (k as Real + 0.5) * step;
+                (off, slicer.nodes_at(off, e1, e2))
+            })
+            .collect();
+        let largest = raw
+            .iter()
+            .flat_map(|(_, l)| l.iter().map(|l| l.area))
+            .fold(0.0, Real::max);
+        if largest.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+            return Err(SegmentError::NotAStandingBody {
+                what: "a body",
+                why: "no slice has a closed loop".into(),
+            });
+        }
+        for (_, loops) in &mut raw {
+            loops.retain(|l| l.area >= opts.min_loop_area * largest);
+        }
+        let first = raw.iter().position(|r| !r.1.is_empty()).unwrap_or(0);
+        let last = raw.iter().rposition(|r| !r.1.is_empty()).unwrap_or(n - 1);
+        if pass == 1 || (first < 2 && last + 2 >= n) {
+            break;
+        }
+        pass += 1;
+        // The extreme points within a slice of the occupied range.
+        let (lo, hi) = (
+            min + first as Real * step - step,
+            min + (last + 1) as Real * step + step,
+        );
+        let (a, b) = positions
+            .iter()
+            .map(|p| p.dot(axis))
+            .filter(|h| (lo..=hi).contains(h))
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(a, b), h| {
+                (a.min(h), b.max(h))
+            });
+        min = a;
+        max = b;
     }
-    for (_, loops) in &mut raw {
-        loops.retain(|l| l.area >= opts.min_loop_area * largest);
-    }
+    let extent = max - min;
+    let step = extent / n as Real;
 
     // 3. Sign.
     let up = if axis_given {
@@ -1343,12 +1371,9 @@ pub fn segment(
     };
     let left = up.cross(front);
 
-    // Put heights on the nodes' centroids consistently: a point's height
-    // above the soles is (p − floor)·up, floor = lowest point.
-    let floor = positions
-        .iter()
-        .map(|p| p.dot(up))
-        .fold(Real::INFINITY, Real::min);
+    // A point's height above the floor is p·up − floor, the floor being
+    // the low end of the sliced range.
+    let floor = if up.dot(axis) > 0.0 { min } else { -max };
     let hfrac = |p: Point3| (p.dot(up) - floor) / extent;
     let at_height = |p: Point3, h: Real| p + up * (floor + h - p.dot(up));
 

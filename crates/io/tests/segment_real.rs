@@ -532,3 +532,36 @@ fn t_pose_arms_are_found_across_the_body() {
         assert!((0.83..=0.89).contains(&n), "{name}: neck {n}");
     }
 }
+
+/// Stray points far above the head and below the feet (scanner outliers)
+/// do not change the height or the landmarks.
+#[test]
+fn scan_with_stray_points_keeps_its_height() {
+    let Some(cloud) = shared_scan() else { return };
+    let base = segment(BodyGeometry::Cloud(&cloud), &SegmentOptions::default()).unwrap();
+    let mut positions = cloud.positions.clone();
+    for i in 0..40 {
+        let f = i as f64;
+        // A tight clump 0.4 m above the head, a loose line below the feet,
+        // scattered points beside the body.
+        positions.push(Vec3::new(
+            0.001 * (f % 5.0),
+            1.31 + 0.0005 * f,
+            0.002 * (f % 3.0),
+        ));
+        positions.push(Vec3::new(-0.3 + 0.015 * f, -1.1, 0.4));
+        positions.push(Vec3::new(0.9, -0.8 + 0.04 * f, -0.5 + 0.02 * f));
+    }
+    let noisy = PointCloud {
+        positions,
+        normals: None,
+    };
+    let s = segment(BodyGeometry::Cloud(&noisy), &SegmentOptions::default()).unwrap();
+    let t = Similarity {
+        scale: 1.0,
+        axis: Vec3::Z,
+        angle: 0.0,
+        shift: Vec3::ZERO,
+    };
+    assert_same_model("scan with stray points", &base, &s, &t, 0.02);
+}

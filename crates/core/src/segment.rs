@@ -432,17 +432,22 @@ enum AxisSlicer<'a> {
 }
 
 impl<'a> AxisSlicer<'a> {
+    /// `spacing`: a cloud's point spacing when already known.
     fn new(
         body: BodyGeometry<'a>,
         axis: Vec3,
         opts: &SegmentOptions,
+        spacing: Option<Real>,
     ) -> Result<AxisSlicer<'a>, SegmentError> {
         Ok(match body {
             BodyGeometry::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, axis, &opts.section)?),
             BodyGeometry::Cloud(c) => {
                 // The spacing estimate of the scan sections, so that both
                 // agree on what a cell is.
-                let spacing = CloudSlicer::new(c, axis)?.spacing();
+                let spacing = match spacing {
+                    Some(s) => s,
+                    None => CloudSlicer::new(c, axis)?.spacing(),
+                };
                 let graph = ScanSectionOptions {
                     cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
                     closing_radius: opts.graph_closing,
@@ -1135,7 +1140,7 @@ pub fn segment(
     };
 
     // 2. Slices.
-    let slicer = AxisSlicer::new(body, axis, opts)?;
+    let slicer = AxisSlicer::new(body, axis, opts, None)?;
     let (mut min, mut max) = slicer.range();
     let n = opts.slices;
     // Plane coordinates shared by all slices (any orthonormal pair ⊥ axis).
@@ -1465,6 +1470,7 @@ pub fn segment(
             let lateral = lateral_arm(
                 body,
                 opts,
+                slicer.spacing(),
                 side,
                 up,
                 floor + crotch_h,
@@ -2217,6 +2223,7 @@ struct LateralArm {
 fn lateral_arm(
     body: BodyGeometry<'_>,
     opts: &SegmentOptions,
+    spacing: Option<Real>,
     side: Vec3,
     up: Vec3,
     crotch_level: Real,
@@ -2225,7 +2232,7 @@ fn lateral_arm(
 ) -> Option<LateralArm> {
     // Heights along −side grow inward: the outermost slice is the first.
     let axis = -side;
-    let slicer = AxisSlicer::new(body, axis, opts).ok()?;
+    let slicer = AxisSlicer::new(body, axis, opts, spacing).ok()?;
     let (min, max) = slicer.range();
     let count = (((max - min) / step).ceil() as usize).clamp(50, 4000);
     let lstep = (max - min) / count as Real;

@@ -106,7 +106,12 @@
 //!    over ± [`SegmentOptions::axis_smoothing`] × `H`, and resampled evenly
 //!    by arc length, oriented as method.md §2 asks (up for torso and head,
 //!    away from the trunk for limbs): torso crotch → neck, head neck → top,
-//!    arms armpit → hand tip, legs crotch → ankle. Feet get a straight
+//!    arms shoulder → hand tip, legs crotch → ankle. An arm's axis is
+//!    continued past the armpit into the shoulder (method.md §8.5): steps
+//!    along the direction of its top tenth, each cut perpendicular to it,
+//!    while the cut's loop stays an arm's loop (at most 1.5 times the arm's
+//!    typical area, centred within an arm radius); where the cuts merge
+//!    with the trunk is the **shoulder** landmark. Feet get a straight
 //!    axis from heel to toe: the principal horizontal direction of the
 //!    foot's slices below the ankle, oriented to the front, at a third of
 //!    the ankle height. [`cut_part`] cuts a part again with the plane
@@ -272,6 +277,8 @@ pub enum LandmarkKind {
     RightHeel,
     LeftToe,
     RightToe,
+    LeftShoulder,
+    RightShoulder,
 }
 
 impl fmt::Display for LandmarkKind {
@@ -327,8 +334,10 @@ impl fmt::Display for PartName {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PartAxis {
     pub name: PartName,
-    /// The smoothed axis, evenly spaced by arc length, from the proximal end
-    /// (`start`) to the distal end (`end`); for torso and head upward.
+    /// The smoothed axis from the proximal end (`start`) to the distal end
+    /// (`end`); for torso and head upward. Evenly spaced by arc length,
+    /// except the arms' shoulder extension (one point per cut, about a
+    /// slice spacing apart).
     pub points: Vec<Point3>,
     /// Equivalent radius `√(A/π)` of the part's loops near each axis point
     /// (from the slices that built the axis).
@@ -1577,6 +1586,24 @@ pub fn segment(
         }
         parts.push(part);
     }
+    // Let each arm's axis continue into the shoulder (method.md §8.5).
+    for part in parts.iter_mut() {
+        let kind = match part.name {
+            PartName::LeftArm => LandmarkKind::LeftShoulder,
+            PartName::RightArm => LandmarkKind::RightShoulder,
+            _ => continue,
+        };
+        if let Some(end) = extend_into_shoulder(body, part, opts, slicer.spacing(), step) {
+            part.start = kind;
+            landmarks.push(Landmark {
+                kind,
+                position: end,
+                height_fraction: hfrac(end),
+                confidence: 0.7,
+                how: "the arm's axis continued past the armpit until its perpendicular cuts merge with the trunk",
+            });
+        }
+    }
     if arm_found.iter().all(|a| a.is_none()) {
         armpit_slice = crotch_slice + (g.nodes[top_node].slice - crotch_slice) / 2;
     }
@@ -2292,6 +2319,78 @@ fn lateral_arm(
         armpit,
         tip,
     })
+}
+
+/// Continues an arm's axis past its proximal end (the armpit) into the
+/// shoulder, as method.md §8.5 suggests: step along the direction of the
+/// arm's proximal tenth, cut perpendicular to it, and keep the loop around
+/// the axis while it stays an arm's loop (area at most 1.5 times the arm's
+/// typical area near its top, centre within one arm radius of the step
+/// point); the first cut that merges with the trunk ends it. Prepends the
+/// new centres to the axis and returns the new proximal end, or `None`
+/// when the first cut already merges.
+fn extend_into_shoulder(
+    body: BodyGeometry<'_>,
+    arm: &mut PartAxis,
+    opts: &SegmentOptions,
+    spacing: Option<Real>,
+    step: Real,
+) -> Option<Point3> {
+    let p0 = *arm.points.first()?;
+    let (p1, _) = arm.point_and_tangent(0.1)?;
+    let dir = (p0 - p1).normalized()?;
+    let k_top = (arm.radii.len() / 4).max(1);
+    let mut top: Vec<Real> = arm.radii[..k_top].to_vec();
+    top.sort_by(|a, b| a.total_cmp(b));
+    let r = top[top.len() / 2];
+    if r.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let area = std::f64::consts::PI * r * r;
+    let reach = 4.0 * r;
+    let local = local_geometry(body, p0 + dir * (0.5 * reach), reach + 4.0 * r);
+    let slicer = match &local {
+        Local::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
+        Local::Cloud(c, _) => {
+            let spacing = spacing?;
+            let graph = ScanSectionOptions {
+                cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
+                closing_radius: opts.graph_closing,
+                ..opts.scan
+            };
+            AxisSlicer::Cloud(SlabComponents::new(&c.positions, dir, spacing, &graph).ok()?)
+        }
+    };
+    let e1 = dir.any_perpendicular();
+    let e2 = dir.cross(e1);
+    let mut added: Vec<(Point3, Real)> = Vec::new();
+    let steps = (reach / step).ceil() as usize;
+    let mut centre = p0;
+    for _ in 0..steps {
+        let q = centre + dir * step;
+        let q2 = Vec2::new(q.dot(e1), q.dot(e2));
+        let nodes = slicer.nodes_at(q.dot(dir), e1, e2);
+        let Some(nd) = nodes
+            .iter()
+            .filter(|nd| point_in_polygon(q2, &nd.poly) || (nd.c2 - q2).norm() < r)
+            .min_by(|a, b| (a.c2 - q2).norm().total_cmp(&(b.c2 - q2).norm()))
+        else {
+            break;
+        };
+        if nd.area > 1.5 * area || (nd.c2 - q2).norm() > r {
+            break;
+        }
+        centre = nd.centroid;
+        added.push((nd.centroid, nd.radius));
+    }
+    let end = added.last()?.0;
+    let mut points: Vec<Point3> = added.iter().rev().map(|a| a.0).collect();
+    let mut radii: Vec<Real> = added.iter().rev().map(|a| a.1).collect();
+    points.extend(arm.points.iter().copied());
+    radii.extend(arm.radii.iter().copied());
+    arm.points = points;
+    arm.radii = radii;
+    Some(end)
 }
 
 /// The wrist on cuts perpendicular to the arm's distal half: walking up

@@ -141,6 +141,22 @@ fn check_body(name: &str, s: &Segmentation) {
             "{name}: {left}/{right}"
         );
     }
+    // The arms' axes continue past the armpits into the shoulders.
+    for (pit, shoulder) in [
+        (LandmarkKind::LeftArmpit, LandmarkKind::LeftShoulder),
+        (LandmarkKind::RightArmpit, LandmarkKind::RightShoulder),
+    ] {
+        let (a, b) = (s.landmark(pit).unwrap(), s.landmark(shoulder).unwrap());
+        let rise = b.height_fraction - a.height_fraction;
+        assert!(
+            (0.005..0.05).contains(&rise),
+            "{name}: {shoulder} {rise} H above {pit}"
+        );
+        assert!(
+            b.position.x.abs() > a.position.x.abs(),
+            "{name}: {shoulder} inside {pit}"
+        );
+    }
     // Toes in front of heels, feet about 0.13-0.16 H long.
     let foot = s.part(PartName::LeftFoot).unwrap();
     let d = foot.points[foot.points.len() - 1] - foot.points[0];

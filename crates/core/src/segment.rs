@@ -2340,7 +2340,7 @@ fn extend_into_shoulder(
     let (p1, _) = arm.point_and_tangent(0.1)?;
     let dir = (p0 - p1).normalized()?;
     let k_top = (arm.radii.len() / 4).max(1);
-    let mut top: Vec<Real> = arm.radii[..k_top].to_vec();
+    let mut top: Vec<Real> = arm.radii.get(..k_top)?.to_vec();
     top.sort_by(|a, b| a.total_cmp(b));
     let r = top[top.len() / 2];
     if r.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
@@ -2577,6 +2577,12 @@ mod tests {
         let empty = PointCloud::default();
         assert!(matches!(
             segment(BodyGeometry::Cloud(&empty), &SegmentOptions::default()),
+            Err(SegmentError::Input(_))
+        ));
+        let mut nan = PointCloud::from(cube(1.0));
+        nan.positions[3].y = Real::NAN;
+        assert!(matches!(
+            segment(BodyGeometry::Cloud(&nan), &SegmentOptions::default()),
             Err(SegmentError::Input(_))
         ));
         let ball = shapes::uv_sphere(Vec3::ZERO, 0.5, 8, 16);

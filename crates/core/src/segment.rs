@@ -1587,6 +1587,23 @@ pub fn segment(
         parts.push(part);
     }
     // Let each arm's axis continue into the shoulder (method.md §8.5).
+    // And out to the fingertips: fingers thinner than the small-loop limit
+    // are not in the graph.
+    for part in parts.iter_mut() {
+        let kind = match part.name {
+            PartName::LeftArm => LandmarkKind::LeftHandTip,
+            PartName::RightArm => LandmarkKind::RightHandTip,
+            _ => continue,
+        };
+        if let Some(tip) = extend_to_fingertips(positions, part) {
+            if let Some(l) = landmarks.iter_mut().find(|l| l.kind == kind) {
+                l.position = tip;
+                l.height_fraction = hfrac(tip);
+                l.how =
+                    "farthest point along the arm's end direction near the hand (the fingertips)";
+            }
+        }
+    }
     for part in parts.iter_mut() {
         let kind = match part.name {
             PartName::LeftArm => LandmarkKind::LeftShoulder,
@@ -2319,6 +2336,51 @@ fn lateral_arm(
         armpit,
         tip,
     })
+}
+
+/// Extends an arm's axis from its last slice to the fingertips: the input
+/// points within a cylinder around the direction from 60 % of the arm to
+/// its end (radius three
+/// times the arm's radius at the hand, reaching up to a fifth of the arm's
+/// length beyond the end) are projected on that direction; the farthest
+/// gives the tip, and the axis gets a straight piece out to it. Returns the
+/// tip, or `None` when nothing lies beyond the end.
+fn extend_to_fingertips(positions: &[Point3], arm: &mut PartAxis) -> Option<Point3> {
+    let n = arm.points.len();
+    let end = *arm.points.last()?;
+    // The direction of the forearm and hand (the last slices alone wobble
+    // in a scan).
+    let (before, _) = arm.point_and_tangent(0.6)?;
+    let dir = (end - before).normalized()?;
+    let r = 3.0
+        * arm
+            .radii
+            .get(n.saturating_sub(n / 10 + 1)..)?
+            .iter()
+            .copied()
+            .fold(0.0, Real::max);
+    let reach = 0.2 * arm.length();
+    let mut best: Real = 0.0;
+    for &p in positions {
+        let d = p - end;
+        let along = d.dot(dir);
+        if along > best && along <= reach && (d - dir * along).norm() <= r {
+            best = along;
+        }
+    }
+    if best.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let tip = end + dir * best;
+    let r_end = arm.radii.last().copied().unwrap_or(0.0);
+    let spacing = arm.length() / (n.max(2) - 1) as Real;
+    let extra = ((best / spacing.max(Real::MIN_POSITIVE)).ceil() as usize).clamp(1, 1000);
+    for i in 1..=extra {
+        let t = i as Real / extra as Real;
+        arm.points.push(end + dir * (best * t));
+        arm.radii.push(r_end * (1.0 - 0.5 * t));
+    }
+    Some(tip)
 }
 
 /// Continues an arm's axis past its proximal end (the armpit) into the

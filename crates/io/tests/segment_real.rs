@@ -214,15 +214,8 @@ fn scan_agrees_with_its_mesh() {
             l.kind.to_string(),
             d * 1000.0
         );
-        // Hand tips and soles are ends (a dropped finger, an unseen sole
-        // move them); the others are junctions and girth minima.
-        let tol = match l.kind {
-            LandmarkKind::LeftHandTip
-            | LandmarkKind::RightHandTip
-            | LandmarkKind::LeftSole
-            | LandmarkKind::RightSole => 0.1,
-            _ => 0.03,
-        };
+        // Armpits differ most (the scanner does not see them): ~2 % H.
+        let tol = 0.03;
         assert!(d < tol * a.height, "{}: {d}", l.kind);
     }
 }

@@ -125,10 +125,10 @@
 //!
 //! Not handled (reported, not guessed): a hand touching the thigh or hip
 //! (the legs then do not merge only with each other: an error naming the
-//! crotch), arms above the head, sitting poses. The hand tip is the last
-//! slice of the arm's branch: fingers thinner than
-//! [`SegmentOptions::min_loop_area`] are dropped, so it can lie a few
-//! centimetres short of the fingertips.
+//! crotch, or an arm reported missing), arms above the head, sitting poses.
+//! Fingers thinner than [`SegmentOptions::min_loop_area`] are not in the
+//! graph; the arm's axis is extended from its last slice to the farthest
+//! input point along the forearm-hand direction (the **hand tip**).
 
 use crate::linalg::symmetric_eigen3;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};

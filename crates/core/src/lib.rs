@@ -26,6 +26,7 @@ pub mod order;
 pub mod scan_section;
 pub mod scanner;
 pub mod section;
+pub mod segment;
 pub mod series;
 pub mod shapes;
 

@@ -340,32 +340,60 @@ pub fn fit_equally_spaced(points: &[Vec2], v0: Real, order: usize) -> Option<Coe
     let dim = 2 * order + 1;
     let mut cx = vec![0.0; dim];
     let mut cy = vec![0.0; dim];
-    let px: Vec<Real> = points.iter().map(|p| p.x).collect();
-    let py: Vec<Real> = points.iter().map(|p| p.y).collect();
-    // cos v_i, sin v_i by rotating through the equal steps, then each
-    // harmonic from the previous one across all points at once.
-    let (ds, dc) = (TAU / n as Real).sin_cos();
-    let (mut c1, mut s1) = (vec![0.0; n], vec![0.0; n]);
-    (s1[0], c1[0]) = v0.sin_cos();
-    for i in 1..n {
-        c1[i] = c1[i - 1] * dc - s1[i - 1] * ds;
-        s1[i] = s1[i - 1] * dc + c1[i - 1] * ds;
-    }
-    cx[0] = px.iter().sum();
-    cy[0] = py.iter().sum();
-    let (mut c, mut s) = (c1.clone(), s1.clone());
-    for j in 1..=order {
-        if j > 1 {
-            for i in 0..n {
-                let (cc, ss) = (c[i] * c1[i] - s[i] * s1[i], s[i] * c1[i] + c[i] * s1[i]);
-                c[i] = cc;
-                s[i] = ss;
-            }
+    // Twiddles cos(2πk/n), sin(2πk/n): by rotation, re-anchored on an exact
+    // sin_cos every 32 steps so rounding cannot accumulate.
+    let step = TAU / n as Real;
+    let (ds, dc) = step.sin_cos();
+    let (mut tc, mut ts) = (vec![0.0; n], vec![0.0; n]);
+    for k in 0..n {
+        if k % 32 == 0 {
+            (ts[k], tc[k]) = (step * k as Real).sin_cos();
+        } else {
+            tc[k] = tc[k - 1] * dc - ts[k - 1] * ds;
+            ts[k] = ts[k - 1] * dc + tc[k - 1] * ds;
         }
-        cx[2 * j - 1] = dot(&px, &c);
-        cx[2 * j] = dot(&px, &s);
-        cy[2 * j - 1] = dot(&py, &c);
-        cy[2 * j] = dot(&py, &s);
+    }
+    cx[0] = points.iter().map(|p| p.x).sum();
+    cy[0] = points.iter().map(|p| p.y).sum();
+    for j in 1..=order {
+        // Σ p_i cos(2π j i / n) and Σ p_i sin(2π j i / n): the twiddle of
+        // j·i mod n, walked by adding j.
+        // Two interleaved sets of sums (even and odd points) halve the
+        // dependency chains; they are added in a fixed order.
+        let mut acc = [0.0; 8];
+        let (mut k, jj) = (0usize, j % n);
+        let mut pairs = points.chunks_exact(2);
+        for pair in &mut pairs {
+            let k2 = if k + jj >= n { k + jj - n } else { k + jj };
+            let (c, s, c2, s2) = (tc[k], ts[k], tc[k2], ts[k2]);
+            acc[0] += pair[0].x * c;
+            acc[1] += pair[0].x * s;
+            acc[2] += pair[0].y * c;
+            acc[3] += pair[0].y * s;
+            acc[4] += pair[1].x * c2;
+            acc[5] += pair[1].x * s2;
+            acc[6] += pair[1].y * c2;
+            acc[7] += pair[1].y * s2;
+            k = if k2 + jj >= n { k2 + jj - n } else { k2 + jj };
+        }
+        if let [p] = pairs.remainder() {
+            acc[0] += p.x * tc[k];
+            acc[1] += p.x * ts[k];
+            acc[2] += p.y * tc[k];
+            acc[3] += p.y * ts[k];
+        }
+        let (xc, xs, yc, ys) = (
+            acc[0] + acc[4],
+            acc[1] + acc[5],
+            acc[2] + acc[6],
+            acc[3] + acc[7],
+        );
+        // Then the phase of the first parameter: j v_i = j v0 + 2π j i / n.
+        let (s0, c0) = (j as Real * v0).sin_cos();
+        cx[2 * j - 1] = c0 * xc - s0 * xs;
+        cx[2 * j] = s0 * xc + c0 * xs;
+        cy[2 * j - 1] = c0 * yc - s0 * ys;
+        cy[2 * j] = s0 * yc + c0 * ys;
     }
     let inv = 1.0 / n as Real;
     cx[0] *= inv;

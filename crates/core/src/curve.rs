@@ -221,7 +221,11 @@ impl TrigCurve {
         let (xs, ys) = (self.x_series(), self.y_series());
         let f = &self.frame;
         let coord = |o: Real, e1: Real, e2: Real| {
-            let mut c: Vec<Real> = xs.c.iter().zip(&ys.c).map(|(x, y)| x * e1 + y * e2).collect();
+            let mut c: Vec<Real> =
+                xs.c.iter()
+                    .zip(&ys.c)
+                    .map(|(x, y)| x * e1 + y * e2)
+                    .collect();
             c[0] += o;
             Series { c }
         };
@@ -237,7 +241,9 @@ impl TrigCurve {
     /// (positive when the curve runs counter-clockwise about the normal).
     pub fn area(&self) -> Real {
         PI * (1..=self.order())
-            .map(|j| j as Real * (self.a[2 * j - 1] * self.b[2 * j - 1] - self.a[2 * j] * self.b[2 * j]))
+            .map(|j| {
+                j as Real * (self.a[2 * j - 1] * self.b[2 * j - 1] - self.a[2 * j] * self.b[2 * j])
+            })
             .sum::<Real>()
     }
 
@@ -261,7 +267,10 @@ impl TrigCurve {
             sy -= 0.5 * p.y * p.y * d.x;
         }
         let scale = TAU / n as Real;
-        Some(self.frame.to_world(Vec2::new(sx * scale / area, sy * scale / area)))
+        Some(
+            self.frame
+                .to_world(Vec2::new(sx * scale / area, sy * scale / area)),
+        )
     }
 
     /// The perimeter `∫ |P'(v)| dv` with relative accuracy `accuracy`.
@@ -518,7 +527,11 @@ mod tests {
         ));
         assert!(matches!(
             TrigCurve::new(Frame::XY, vec![0.0, 1.0, 0.0], vec![0.0, Real::NAN, 0.0]),
-            Err(CurveError::NonFinite { name: "b", index: 1, .. })
+            Err(CurveError::NonFinite {
+                name: "b",
+                index: 1,
+                ..
+            })
         ));
         let mut f = Frame::XY;
         f.e2 = Vec3::new(0.0, 2.0, 0.0);

@@ -17,9 +17,11 @@ pub mod curve;
 pub mod linalg;
 pub mod math;
 pub mod mesh;
+pub mod patch;
 pub mod series;
 
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use math::{Point2, Point3, Real, Vec2, Vec3};
 pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
+pub use patch::{EndConditions, Patch, PatchError};
 pub use series::Series;

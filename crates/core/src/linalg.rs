@@ -231,7 +231,9 @@ mod tests {
 
     fn spd(n: usize) -> Vec<Real> {
         // A = Mᵀ M + n I with a fixed M.
-        let m: Vec<Real> = (0..n * n).map(|k| ((k * 7 + 3) % 11) as Real / 11.0 - 0.4).collect();
+        let m: Vec<Real> = (0..n * n)
+            .map(|k| ((k * 7 + 3) % 11) as Real / 11.0 - 0.4)
+            .collect();
         let mut a = vec![0.0; n * n];
         for i in 0..n {
             for j in 0..n {

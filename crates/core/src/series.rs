@@ -161,8 +161,7 @@ mod tests {
         for k in 0..4 {
             for i in 0..20 {
                 let v = i as Real * 0.31;
-                let fd =
-                    (s.eval_derivative(v + h, k) - s.eval_derivative(v - h, k)) / (2.0 * h);
+                let fd = (s.eval_derivative(v + h, k) - s.eval_derivative(v - h, k)) / (2.0 * h);
                 assert_near!(s.eval_derivative(v, k + 1), fd, 1e-7);
             }
         }

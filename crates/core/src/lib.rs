@@ -13,15 +13,19 @@
 //! assert!((c.area() - std::f64::consts::PI * 0.01).abs() < 1e-15);
 //! ```
 
+pub mod cap;
 pub mod curve;
 pub mod linalg;
 pub mod math;
 pub mod mesh;
+pub mod part;
 pub mod patch;
 pub mod series;
 
+pub use cap::{Cap, CapKind};
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use math::{Point2, Point3, Real, Vec2, Vec3};
 pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
+pub use part::{Part, PartError, PartOptions, Segment, Skinning};
 pub use patch::{EndConditions, Patch, PatchError};
 pub use series::Series;

@@ -210,7 +210,7 @@ impl Patch {
                     });
                 }
                 for (i, &x) in p.iter().enumerate() {
-                    if !x.is_finite() || (i > 0 && !(x > p[i - 1])) {
+                    if !x.is_finite() || (i > 0 && x <= p[i - 1]) {
                         return Err(PatchError::BadParameters { index: i, value: x });
                     }
                 }

@@ -21,6 +21,7 @@ pub mod mesh;
 pub mod part;
 pub mod patch;
 pub mod series;
+pub mod tessellate;
 
 pub use cap::{Cap, CapKind};
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
@@ -29,3 +30,4 @@ pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
 pub use part::{Part, PartError, PartOptions, Segment, Skinning};
 pub use patch::{EndConditions, Patch, PatchError};
 pub use series::Series;
+pub use tessellate::{tessellate_part, TessellateError, TessellationOptions};

@@ -30,4 +30,4 @@ pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
 pub use part::{Part, PartError, PartOptions, Segment, Skinning};
 pub use patch::{EndConditions, Patch, PatchError};
 pub use series::Series;
-pub use tessellate::{tessellate_part, TessellateError, TessellationOptions};
+pub use tessellate::{tessellate_part, tessellate_part_into, TessellateError, TessellationOptions};

@@ -94,8 +94,8 @@ impl TrigTable {
     }
 }
 
-/// A patch's coefficient functions evaluated at the table's angles:
-/// `g[m * around + i] = f_m(v_i)`, `gv[…] = f_m'(v_i)`.
+/// A patch's coefficient functions evaluated at the table's angles, laid out
+/// per vertex: `g[i * terms + m] = f_m(v_i)`, `gv[…] = f_m'(v_i)`.
 struct PatchSamples {
     terms: usize,
     g: Vec<Vec3>,
@@ -105,46 +105,51 @@ struct PatchSamples {
 impl PatchSamples {
     fn new(patch: &Patch, table: &TrigTable) -> PatchSamples {
         let f = patch.coefficients();
-        let (n, w) = (table.around, table.order + 1);
-        let mut g = Vec::with_capacity(f.len() * n);
-        let mut gv = Vec::with_capacity(f.len() * n);
-        for c in f {
-            let order = c.order().min(table.order);
+        let (n, w, terms) = (table.around, table.order + 1, f.len());
+        let mut g = vec![Vec3::ZERO; terms * n];
+        let mut gv = vec![Vec3::ZERO; terms * n];
+        for (m, c) in f.iter().enumerate() {
+            let order =
+                c.x.order()
+                    .min(c.y.order())
+                    .min(c.z.order())
+                    .min(table.order);
+            let (cx, cy, cz) = (
+                &c.x.c[..2 * order + 1],
+                &c.y.c[..2 * order + 1],
+                &c.z.c[..2 * order + 1],
+            );
             for i in 0..n {
                 let (co, si) = (
-                    &table.cos[i * w..(i + 1) * w],
-                    &table.sin[i * w..(i + 1) * w],
+                    &table.cos[i * w..i * w + order + 1],
+                    &table.sin[i * w..i * w + order + 1],
                 );
-                let mut p = [0.0; 3];
+                let mut p = [cx[0], cy[0], cz[0]];
                 let mut d = [0.0; 3];
-                for (k, s) in [&c.x, &c.y, &c.z].into_iter().enumerate() {
-                    let (mut acc, mut dacc) = (s.c[0], 0.0);
-                    for j in 1..=order.min(s.order()) {
-                        let (a, b) = (s.c[2 * j - 1], s.c[2 * j]);
-                        acc += a * co[j] + b * si[j];
-                        dacc += j as Real * (b * co[j] - a * si[j]);
-                    }
-                    p[k] = acc;
-                    d[k] = dacc;
+                for j in 1..=order {
+                    let (cj, sj, fj) = (co[j], si[j], j as Real);
+                    let (ax, bx) = (cx[2 * j - 1], cx[2 * j]);
+                    let (ay, by) = (cy[2 * j - 1], cy[2 * j]);
+                    let (az, bz) = (cz[2 * j - 1], cz[2 * j]);
+                    p[0] += ax * cj + bx * sj;
+                    p[1] += ay * cj + by * sj;
+                    p[2] += az * cj + bz * sj;
+                    d[0] += fj * (bx * cj - ax * sj);
+                    d[1] += fj * (by * cj - ay * sj);
+                    d[2] += fj * (bz * cj - az * sj);
                 }
-                g.push(Vec3::from(p));
-                gv.push(Vec3::from(d));
+                g[i * terms + m] = Vec3::from(p);
+                gv[i * terms + m] = Vec3::from(d);
             }
         }
-        PatchSamples {
-            terms: f.len(),
-            g,
-            gv,
-        }
+        PatchSamples { terms, g, gv }
     }
 
     /// Appends the row at `u` (positions and normals `sign · ∂v × ∂u`).
     fn row(&self, u: Real, sign: Real, positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>) {
-        let n = self.g.len() / self.terms;
-        let mut pw = [0.0; 16];
-        let mut dpw = [0.0; 16];
-        let terms = self.terms.min(16);
-        let (pw, dpw) = (&mut pw[..terms], &mut dpw[..terms]);
+        let terms = self.terms;
+        let mut pw = vec![0.0; terms];
+        let mut dpw = vec![0.0; terms];
         let mut x = 1.0;
         for m in 0..terms {
             pw[m] = x;
@@ -155,19 +160,19 @@ impl PatchSamples {
             };
             x *= u;
         }
-        for i in 0..n {
+        let rows = self.g.chunks_exact(terms).zip(self.gv.chunks_exact(terms));
+        for (g, gv) in rows {
             let (mut p, mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
             for m in 0..terms {
-                let (g, gv) = (self.g[m * n + i], self.gv[m * n + i]);
-                p += g * pw[m];
-                du += g * dpw[m];
-                dv += gv * pw[m];
+                p += g[m] * pw[m];
+                du += g[m] * dpw[m];
+                dv += gv[m] * pw[m];
             }
             positions.push(p);
-            let nrm = dv.cross(du) * sign;
-            let len = nrm.norm();
-            normals.push(if len > 0.0 && len.is_finite() {
-                nrm / len
+            let nrm = dv.cross(du);
+            let len2 = nrm.norm_squared();
+            normals.push(if len2 > 0.0 && len2.is_finite() {
+                nrm * (sign / len2.sqrt())
             } else {
                 Vec3::ZERO
             });
@@ -207,6 +212,19 @@ pub fn tessellate_part(
     part: &Part,
     options: &TessellationOptions,
 ) -> Result<Mesh, TessellateError> {
+    let mut mesh = Mesh::default();
+    tessellate_part_into(part, options, &mut mesh)?;
+    Ok(mesh)
+}
+
+/// [`tessellate_part`] into an existing mesh, replacing its contents but
+/// reusing its allocations (for repeated tessellation, e.g. interactive
+/// editing: fresh memory costs about as much as computing the vertices).
+pub fn tessellate_part_into(
+    part: &Part,
+    options: &TessellationOptions,
+    mesh: &mut Mesh,
+) -> Result<(), TessellateError> {
     let (mut around, along, cap_rings) = (options.around, options.along, options.cap_rings);
     let segments = part.segments();
     let mut along_per: Vec<usize> = vec![along; segments.len()];
@@ -260,8 +278,15 @@ pub fn tessellate_part(
     let cap_samples = caps.map(|c| c.map(|c: &Cap| PatchSamples::new(&c.patch, &table)));
 
     let capacity = vertex_count as usize;
-    let mut positions = Vec::with_capacity(capacity);
-    let mut normals = Vec::with_capacity(capacity);
+    let mut positions = std::mem::take(&mut mesh.positions);
+    let mut normals = mesh.normals.take().unwrap_or_default();
+    let mut triangles = std::mem::take(&mut mesh.triangles);
+    positions.clear();
+    normals.clear();
+    triangles.clear();
+    positions.reserve(capacity);
+    normals.reserve(capacity);
+    triangles.reserve(2 * capacity);
     let mut rows: Vec<Row> = Vec::with_capacity(ring_count + 2);
     let push_ring = |rows: &mut Vec<Row>, positions: &Vec<Vec3>| {
         rows.push(Row::Ring((positions.len() - around) as u32))
@@ -348,7 +373,6 @@ pub fn tessellate_part(
         }
     }
 
-    let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(2 * capacity);
     let n = around as u32;
     for w in rows.windows(2) {
         match (w[0], w[1]) {
@@ -382,11 +406,12 @@ pub fn tessellate_part(
             *nrm = -*nrm;
         }
     }
-    Ok(Mesh {
+    *mesh = Mesh {
         positions,
         normals: Some(normals),
         triangles,
-    })
+    };
+    Ok(())
 }
 
 #[cfg(test)]

@@ -1,1 +1,51 @@
-fn main() {}
+//! The `trigbody` command line. Thin by design: argument parsing, progress,
+//! printing and files; all geometry lives in the libraries.
+//!
+//! Exit codes: 0 success, 2 bad input or usage (message on stderr naming the
+//! file, line or value), 1 internal failure.
+
+mod cmd_fit;
+mod examples;
+mod exit;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Compact, smooth human body models from trigonometric cross-section curves.
+#[derive(Debug, Parser)]
+#[command(name = "trigbody", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Fit a trigonometric curve to one closed loop of points.
+    Fit(cmd_fit::FitArgs),
+    /// Fit the bundled real cross-sections (torso, waist, neck, thigh, calf,
+    /// upper arm) and compare each with the ellipse baseline.
+    Examples(examples::ExamplesArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    let result = match cli.command {
+        Command::Fit(args) => cmd_fit::run(args),
+        Command::Examples(args) => examples::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("trigbody: error: {e:#}");
+            ExitCode::from(exit::code_of(&e))
+        }
+    }
+}

@@ -15,9 +15,13 @@
 
 pub mod cap;
 pub mod curve;
+pub mod ellipse;
+pub mod fit;
 pub mod linalg;
+pub mod lsq;
 pub mod math;
 pub mod mesh;
+pub mod order;
 pub mod part;
 pub mod patch;
 pub mod series;
@@ -25,6 +29,11 @@ pub mod tessellate;
 
 pub use cap::{Cap, CapKind};
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
+pub use ellipse::EllipseFit;
+pub use fit::{
+    fit_loop, fit_loop_2d, FitError, FitOptions, LoopFit, OrderChoice, Parameterization, Weighting,
+};
+pub use lsq::FitErrors;
 pub use math::{Point2, Point3, Real, Vec2, Vec3};
 pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
 pub use part::{Part, PartError, PartOptions, Segment, Skinning};

@@ -2,7 +2,7 @@
 //! row-major `Vec<Real>` matrices. Sizes here are tiny (a (2J+1)² Gram matrix,
 //! a K×K skinning system), so plain loops beat a general library.
 
-use crate::math::Real;
+use crate::math::{Real, Vec3};
 
 /// A lower-triangular Cholesky factor `L` of a symmetric positive definite
 /// matrix `A = L Lᵀ`, stored row-major `n × n`.
@@ -21,18 +21,27 @@ impl Cholesky {
     /// to the matrix's scale (`rel_pivot_tol · max diagonal`): the matrix is
     /// singular or too ill-conditioned for the normal equations.
     pub fn factor(a: &[Real], n: usize, rel_pivot_tol: Real) -> Option<Cholesky> {
+        let (ch, rank) = Cholesky::factor_partial(a, n, rel_pivot_tol);
+        (rank == n).then_some(ch)
+    }
+
+    /// Factors as far as the pivots allow: the factor of the largest leading
+    /// block of `a` whose pivots all exceed `rel_pivot_tol · max diagonal`,
+    /// and that block's size (the rank the data support, 0 when none).
+    /// Only the first `rank` rows and columns of the returned factor are valid.
+    pub fn factor_partial(a: &[Real], n: usize, rel_pivot_tol: Real) -> (Cholesky, usize) {
         let scale = (0..n).map(|i| a[i * n + i]).fold(0.0, Real::max);
-        if !(scale > 0.0) || !scale.is_finite() {
-            return None;
-        }
         let mut l = vec![0.0; n * n];
+        if !(scale > 0.0) || !scale.is_finite() {
+            return (Cholesky { n, l }, 0);
+        }
         for j in 0..n {
             let mut d = a[j * n + j];
             for k in 0..j {
                 d -= l[j * n + k] * l[j * n + k];
             }
             if !(d > rel_pivot_tol * scale) {
-                return None;
+                return (Cholesky { n, l }, j);
             }
             let d = d.sqrt();
             l[j * n + j] = d;
@@ -44,7 +53,7 @@ impl Cholesky {
                 l[i * n + j] = s / d;
             }
         }
-        Some(Cholesky { n, l })
+        (Cholesky { n, l }, n)
     }
 
     /// Solves `L z = r` for the leading `m` unknowns (m ≤ n).
@@ -224,6 +233,50 @@ impl Lu {
     }
 }
 
+/// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations:
+/// eigenvalues in descending order with their unit eigenvectors.
+pub fn symmetric_eigen3(m: [[Real; 3]; 3]) -> ([Real; 3], [Vec3; 3]) {
+    let mut a = m;
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _sweep in 0..64 {
+        let off = a[0][1].powi(2) + a[0][2].powi(2) + a[1][2].powi(2);
+        let diag = a[0][0].powi(2) + a[1][1].powi(2) + a[2][2].powi(2);
+        if off <= 1e-30 * diag || off == 0.0 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q] == 0.0 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            for k in 0..3 {
+                let (akp, akq) = (a[k][p], a[k][q]);
+                a[k][p] = c * akp - s * akq;
+                a[k][q] = s * akp + c * akq;
+            }
+            for k in 0..3 {
+                let (apk, aqk) = (a[p][k], a[q][k]);
+                a[p][k] = c * apk - s * aqk;
+                a[q][k] = s * apk + c * aqk;
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    let mut idx = [0, 1, 2];
+    idx.sort_by(|&i, &j| a[j][j].total_cmp(&a[i][i]));
+    let vals = idx.map(|i| a[i][i]);
+    let vecs = idx.map(|i| Vec3::new(v[0][i], v[1][i], v[2][i]));
+    (vals, vecs)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -285,6 +338,20 @@ mod tests {
         assert_near!(x[0][0], 1.0, 1e-13);
         assert_near!(x[0][1], 2.0, 1e-13);
         assert_near!(x[0][2], -1.0, 1e-13);
+    }
+
+    #[test]
+    fn eigen3_diagonalizes() {
+        let m = [[4.0, 1.0, -0.5], [1.0, 3.0, 0.25], [-0.5, 0.25, 1.0]];
+        let (vals, vecs) = symmetric_eigen3(m);
+        assert!(vals[0] >= vals[1] && vals[1] >= vals[2]);
+        for (l, v) in vals.iter().zip(vecs) {
+            for i in 0..3 {
+                let mv = m[i][0] * v.x + m[i][1] * v.y + m[i][2] * v.z;
+                assert_near!(mv, l * v[i], 1e-12);
+            }
+            assert_near!(v.norm(), 1.0, 1e-12);
+        }
     }
 
     #[test]

@@ -65,6 +65,12 @@ impl Vec2 {
     pub fn is_finite(self) -> bool {
         self.x.is_finite() && self.y.is_finite()
     }
+    /// The unit vector along `self`, or `None` for a zero or non-finite vector.
+    #[inline]
+    pub fn normalized(self) -> Option<Vec2> {
+        let n = self.norm();
+        (n > 0.0 && n.is_finite()).then(|| self / n)
+    }
     /// Rotate by +90°.
     #[inline]
     pub fn perp(self) -> Vec2 {

@@ -2,3 +2,6 @@
 //!
 //! File formats for trigbody: everything that turns bytes into the core's
 //! types and back. The core never reads or writes files itself.
+
+pub mod fit_json;
+pub mod loop_text;

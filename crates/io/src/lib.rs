@@ -5,3 +5,4 @@
 
 pub mod fit_json;
 pub mod loop_text;
+pub mod gltf;

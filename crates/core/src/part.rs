@@ -165,6 +165,7 @@ impl Segment {
 /// A skinned part (see the module doc).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
+    sections: Vec<TrigCurve>,
     curves: Vec<TrigCurve>,
     twist: Vec<Real>,
     knots: Vec<Real>,
@@ -356,6 +357,7 @@ impl Part {
         }
 
         // Twist alignment.
+        let sections = curves.clone();
         let mut curves = curves;
         let mut world = world;
         let mut twist = vec![0.0; n];
@@ -377,6 +379,7 @@ impl Part {
             Skinning::PaperUnchained => paper(&world, &knots, options, false)?,
         };
         let mut part = Part {
+            sections,
             curves,
             twist,
             knots,
@@ -425,7 +428,12 @@ impl Part {
         }
     }
 
-    /// The sections, after twist alignment (each passes exactly through the
+    /// The sections exactly as given to [`Part::new`] (what a model file
+    /// stores: rebuilding from them with the same options gives this part).
+    pub fn sections(&self) -> &[TrigCurve] {
+        &self.sections
+    }
+    /// The sections after twist alignment (each passes exactly through the
     /// surface at its knot).
     pub fn curves(&self) -> &[TrigCurve] {
         &self.curves

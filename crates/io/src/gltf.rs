@@ -90,7 +90,11 @@ pub fn glb_bytes(meshes: &[NamedMesh<'_>]) -> Result<Vec<u8>, GltfError> {
                 max[k] = max[k].max(p[k]);
             }
         }
-        let bytes: Vec<u8> = positions.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+        let bytes: Vec<u8> = positions
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
         let view = push_view(&mut bin, &bytes, ARRAY_BUFFER);
         accessors.push(json!({
             "bufferView": view,

@@ -4,5 +4,6 @@
 //! types and back. The core never reads or writes files itself.
 
 pub mod fit_json;
-pub mod loop_text;
 pub mod gltf;
+pub mod loop_text;
+pub mod model;

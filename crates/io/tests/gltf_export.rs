@@ -13,8 +13,12 @@ fn capped_part(offset: Vec3, r: f64) -> trigbody_core::Mesh {
                 e1: Vec3::X,
                 e2: Vec3::Y,
             };
-            TrigCurve::new(frame, vec![0.0, r, 0.0, 0.01, 0.0], vec![0.0, 0.8 * r, 0.0, 0.0, 0.005])
-                .unwrap()
+            TrigCurve::new(
+                frame,
+                vec![0.0, r, 0.0, 0.01, 0.0],
+                vec![0.0, 0.8 * r, 0.0, 0.0, 0.005],
+            )
+            .unwrap()
         })
         .collect();
     let opts = PartOptions {
@@ -31,14 +35,27 @@ fn glb_loads_with_the_gltf_crate_and_bounds_are_right() {
     let a = capped_part(Vec3::new(0.1, 0.2, 0.3), 0.05);
     let b = capped_part(Vec3::new(-0.4, 1.0, 0.0), 0.03);
     let bytes = glb_bytes(&[
-        NamedMesh { name: "leg_left", mesh: &a },
-        NamedMesh { name: "arm_right", mesh: &b },
+        NamedMesh {
+            name: "leg_left",
+            mesh: &a,
+        },
+        NamedMesh {
+            name: "arm_right",
+            mesh: &b,
+        },
     ])
     .unwrap();
     assert_eq!(bytes.len() % 4, 0);
+    // For checking with an external validator: TRIGBODY_GLB_OUT=path.glb.
+    if let Ok(path) = std::env::var("TRIGBODY_GLB_OUT") {
+        std::fs::write(path, &bytes).unwrap();
+    }
     let gltf = gltf::Gltf::from_slice(&bytes).expect("the gltf crate reads our GLB");
     let blob = gltf.blob.as_deref().expect("binary chunk");
-    let names: Vec<_> = gltf.nodes().map(|n| n.name().unwrap_or("").to_string()).collect();
+    let names: Vec<_> = gltf
+        .nodes()
+        .map(|n| n.name().unwrap_or("").to_string())
+        .collect();
     assert_eq!(names, ["leg_left", "arm_right"]);
     for (mesh, src) in gltf.meshes().zip([&a, &b]) {
         let prim = mesh.primitives().next().unwrap();
@@ -49,8 +66,16 @@ fn glb_loads_with_the_gltf_crate_and_bounds_are_right() {
         for k in 0..3 {
             let lo = min[k].as_f64().unwrap();
             let hi = max[k].as_f64().unwrap();
-            assert!((lo - aabb.min[k]).abs() < 1e-6, "min {k}: {lo} vs {}", aabb.min[k]);
-            assert!((hi - aabb.max[k]).abs() < 1e-6, "max {k}: {hi} vs {}", aabb.max[k]);
+            assert!(
+                (lo - aabb.min[k]).abs() < 1e-6,
+                "min {k}: {lo} vs {}",
+                aabb.min[k]
+            );
+            assert!(
+                (hi - aabb.max[k]).abs() < 1e-6,
+                "max {k}: {hi} vs {}",
+                aabb.max[k]
+            );
         }
         let reader = prim.reader(|buffer| match buffer.source() {
             gltf::buffer::Source::Bin => Some(blob),
@@ -61,7 +86,10 @@ fn glb_loads_with_the_gltf_crate_and_bounds_are_right() {
         // The stored bounds are exactly those of the stored positions.
         for k in 0..3 {
             let lo = positions.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min);
-            let hi = positions.iter().map(|p| p[k]).fold(f32::NEG_INFINITY, f32::max);
+            let hi = positions
+                .iter()
+                .map(|p| p[k])
+                .fold(f32::NEG_INFINITY, f32::max);
             assert_eq!(lo as f64, min[k].as_f64().unwrap());
             assert_eq!(hi as f64, max[k].as_f64().unwrap());
         }
@@ -84,6 +112,10 @@ fn glb_rejects_nothing_and_bad_meshes() {
         normals: None,
         triangles: vec![[0, 1, 5]],
     };
-    let err = glb_bytes(&[NamedMesh { name: "broken", mesh: &bad }]).unwrap_err();
+    let err = glb_bytes(&[NamedMesh {
+        name: "broken",
+        mesh: &bad,
+    }])
+    .unwrap_err();
     assert!(err.to_string().contains("broken"), "{err}");
 }

@@ -1,0 +1,363 @@
+//! The trigbody model file: a versioned JSON document holding everything
+//! needed to regenerate a model's surfaces (method.md §7).
+//!
+//! ```json
+//! {
+//!   "format": "trigbody-model",
+//!   "version": 1,
+//!   "units": "m",
+//!   "parts": [
+//!     {
+//!       "name": "leg_left",
+//!       "skinning": { "method": "catmull-rom", "curves_per_patch": 4,
+//!                     "curvature_continuity": false, "align_twist": true },
+//!       "caps": { "start": { "kind": "open" },
+//!                 "end": { "kind": "dome", "relative_height": 1.0 } },
+//!       "sections": [
+//!         { "frame": { "origin": [0, 0, 0], "e1": [1, 0, 0], "e2": [0, 1, 0] },
+//!           "a": [0.0, 0.06, 0.0], "b": [0.0, 0.05, 0.0] }
+//!       ]
+//!     }
+//!   ]
+//! }
+//! ```
+//!
+//! Curves keep the paper's coefficient layout (`a`, `b`, Eq. 3) and their
+//! plane frames; sections are stored as given (before twist alignment), so
+//! reading a file rebuilds exactly the part that was written (f64 values
+//! round-trip exactly: shortest representation out, correctly rounded in).
+//! The document is meant to grow: a body adds transitions and landmarks
+//! beside `parts`; readers ignore fields they do not know and refuse versions
+//! they do not know.
+
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+use std::io::{Read, Write};
+use thiserror::Error;
+use trigbody_core::{CapKind, Frame, Part, PartError, PartOptions, Skinning, TrigCurve, Vec3};
+
+/// The `format` field of every model file.
+pub const MODEL_FORMAT: &str = "trigbody-model";
+/// The model file version this build writes and reads.
+pub const MODEL_VERSION: u64 = 1;
+
+/// A named part of a model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelPart {
+    pub name: String,
+    pub part: Part,
+}
+
+/// A model: named parts in one unit of length.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    /// The unit of every coordinate, e.g. `"m"` (informational; never
+    /// converted).
+    pub units: String,
+    pub parts: Vec<ModelPart>,
+}
+
+/// What is wrong with a model file (every message names the part and
+/// section, and the value).
+#[derive(Debug, Error)]
+pub enum ModelError {
+    #[error("not valid JSON: {0}")]
+    Json(#[source] serde_json::Error),
+    #[error("not a trigbody model: \"format\" is {found}, expected \"{MODEL_FORMAT}\"")]
+    NotAModel { found: String },
+    #[error("model version {found} is not supported (this build reads version {MODEL_VERSION})")]
+    UnknownVersion { found: String },
+    #[error("{context}: {message}")]
+    Structure { context: String, message: String },
+    #[error("part '{part}': {count} section(s); a part needs at least 2")]
+    TooFewSections { part: String, count: usize },
+    #[error("part '{part}', section {section}: no \"frame\" (every section needs its plane: origin, e1, e2)")]
+    MissingFrame { part: String, section: usize },
+    #[error("part '{part}', section {section}: {field}[{index}] is {value}, not a finite number")]
+    NonFinite {
+        part: String,
+        section: usize,
+        field: &'static str,
+        index: usize,
+        value: String,
+    },
+    #[error("part '{part}': unknown skinning method \"{method}\" (expected one of catmull-rom, natural-spline, paper-chained, paper-unchained)")]
+    UnknownSkinning { part: String, method: String },
+    #[error("part '{part}': {source}")]
+    Part {
+        part: String,
+        #[source]
+        source: PartError,
+    },
+    #[error("model I/O: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+#[derive(Serialize, Deserialize)]
+struct FrameRecord {
+    origin: Vec<Option<f64>>,
+    e1: Vec<Option<f64>>,
+    e2: Vec<Option<f64>>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct SectionRecord {
+    #[serde(default)]
+    frame: Option<FrameRecord>,
+    a: Vec<Option<f64>>,
+    b: Vec<Option<f64>>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct SkinningRecord {
+    method: String,
+    #[serde(default = "default_k")]
+    curves_per_patch: usize,
+    #[serde(default)]
+    curvature_continuity: bool,
+    #[serde(default = "default_true")]
+    align_twist: bool,
+}
+
+fn default_k() -> usize {
+    trigbody_core::part::DEFAULT_CURVES_PER_PATCH
+}
+fn default_true() -> bool {
+    true
+}
+
+#[derive(Serialize, Deserialize, Default)]
+struct CapsRecord {
+    #[serde(default)]
+    start: CapKind,
+    #[serde(default)]
+    end: CapKind,
+}
+
+#[derive(Serialize, Deserialize)]
+struct PartRecord {
+    name: String,
+    skinning: SkinningRecord,
+    #[serde(default)]
+    caps: CapsRecord,
+    sections: Vec<SectionRecord>,
+}
+
+fn structure(context: impl Into<String>) -> impl FnOnce(serde_json::Error) -> ModelError {
+    let context = context.into();
+    move |e| ModelError::Structure {
+        context,
+        message: e.to_string(),
+    }
+}
+
+fn finite_vec(
+    values: &[Option<f64>],
+    part: &str,
+    section: usize,
+    field: &'static str,
+) -> Result<Vec<f64>, ModelError> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(index, v)| match v {
+            Some(x) if x.is_finite() => Ok(*x),
+            other => Err(ModelError::NonFinite {
+                part: part.to_string(),
+                section,
+                field,
+                index,
+                value: other.map_or("null".to_string(), |x| x.to_string()),
+            }),
+        })
+        .collect()
+}
+
+fn vec3(
+    values: &[Option<f64>],
+    part: &str,
+    section: usize,
+    field: &'static str,
+) -> Result<Vec3, ModelError> {
+    let v = finite_vec(values, part, section, field)?;
+    <[f64; 3]>::try_from(v.as_slice())
+        .map(Vec3::from)
+        .map_err(|_| ModelError::Structure {
+            context: format!("part '{part}', section {section}"),
+            message: format!("frame.{field} has {} components, expected 3", v.len()),
+        })
+}
+
+/// Checks one section record and makes it a curve (validated by the core).
+fn section_curve(rec: &SectionRecord, part: &str, section: usize) -> Result<TrigCurve, ModelError> {
+    let frame = rec.frame.as_ref().ok_or_else(|| ModelError::MissingFrame {
+        part: part.to_string(),
+        section,
+    })?;
+    let frame = Frame {
+        origin: vec3(&frame.origin, part, section, "origin")?,
+        e1: vec3(&frame.e1, part, section, "e1")?,
+        e2: vec3(&frame.e2, part, section, "e2")?,
+    };
+    let a = finite_vec(&rec.a, part, section, "a")?;
+    let b = finite_vec(&rec.b, part, section, "b")?;
+    TrigCurve::new(frame, a, b).map_err(|source| ModelError::Part {
+        part: part.to_string(),
+        source: PartError::Curve {
+            index: section,
+            source,
+        },
+    })
+}
+
+fn section_record(c: &TrigCurve) -> SectionRecord {
+    let some = |v: &[f64]| v.iter().map(|x| Some(*x)).collect();
+    SectionRecord {
+        frame: Some(FrameRecord {
+            origin: some(&c.frame.origin.to_array()),
+            e1: some(&c.frame.e1.to_array()),
+            e2: some(&c.frame.e2.to_array()),
+        }),
+        a: some(&c.a),
+        b: some(&c.b),
+    }
+}
+
+/// Reads a list of curves from `{"curves": [{frame, a, b}, …]}` (the
+/// hand-written input of `trigbody loft`; `"sections"` is accepted as the
+/// key too). Every curve is validated; `what` names the input in messages.
+pub fn read_curves<R: Read>(reader: R, what: &str) -> Result<Vec<TrigCurve>, ModelError> {
+    let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    let list = doc
+        .get("curves")
+        .or_else(|| doc.get("sections"))
+        .cloned()
+        .ok_or_else(|| ModelError::Structure {
+            context: what.to_string(),
+            message: "expected an object with a \"curves\" list".to_string(),
+        })?;
+    let records: Vec<SectionRecord> = serde_json::from_value(list).map_err(structure(what))?;
+    records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| section_curve(r, what, i))
+        .collect()
+}
+
+/// Parses a model from JSON text.
+pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
+    let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    match doc.get("format") {
+        Some(Value::String(s)) if s == MODEL_FORMAT => {}
+        other => {
+            return Err(ModelError::NotAModel {
+                found: other.map_or("missing".to_string(), |v| v.to_string()),
+            })
+        }
+    }
+    match doc.get("version") {
+        Some(v) if v.as_u64() == Some(MODEL_VERSION) => {}
+        other => {
+            return Err(ModelError::UnknownVersion {
+                found: other.map_or("missing".to_string(), |v| v.to_string()),
+            })
+        }
+    }
+    let units = match doc.get("units") {
+        Some(Value::String(s)) => s.clone(),
+        None => "m".to_string(),
+        Some(other) => {
+            return Err(ModelError::Structure {
+                context: "model".to_string(),
+                message: format!("\"units\" must be a string, got {other}"),
+            })
+        }
+    };
+    let parts_value = doc
+        .get("parts")
+        .cloned()
+        .unwrap_or(Value::Array(Vec::new()));
+    let Value::Array(part_values) = parts_value else {
+        return Err(ModelError::Structure {
+            context: "model".to_string(),
+            message: "\"parts\" must be a list".to_string(),
+        });
+    };
+    let mut parts = Vec::with_capacity(part_values.len());
+    for (i, pv) in part_values.into_iter().enumerate() {
+        let rec: PartRecord = serde_json::from_value(pv).map_err(structure(format!("part {i}")))?;
+        let name = rec.name.clone();
+        if rec.sections.len() < 2 {
+            return Err(ModelError::TooFewSections {
+                part: name,
+                count: rec.sections.len(),
+            });
+        }
+        let skinning = Skinning::from_name(&rec.skinning.method).ok_or_else(|| {
+            ModelError::UnknownSkinning {
+                part: name.clone(),
+                method: rec.skinning.method.clone(),
+            }
+        })?;
+        let curves = rec
+            .sections
+            .iter()
+            .enumerate()
+            .map(|(k, s)| section_curve(s, &name, k))
+            .collect::<Result<Vec<_>, _>>()?;
+        let options = PartOptions {
+            skinning,
+            curves_per_patch: rec.skinning.curves_per_patch,
+            curvature_continuity: rec.skinning.curvature_continuity,
+            align_twist: rec.skinning.align_twist,
+            start_cap: rec.caps.start,
+            end_cap: rec.caps.end,
+        };
+        let part = Part::new(curves, &options).map_err(|source| ModelError::Part {
+            part: name.clone(),
+            source,
+        })?;
+        parts.push(ModelPart { name, part });
+    }
+    Ok(Model { units, parts })
+}
+
+/// The model as a JSON document.
+pub fn model_to_json(model: &Model) -> Value {
+    let parts: Vec<Value> = model
+        .parts
+        .iter()
+        .map(|p| {
+            let o = p.part.options();
+            let rec = PartRecord {
+                name: p.name.clone(),
+                skinning: SkinningRecord {
+                    method: o.skinning.name().to_string(),
+                    curves_per_patch: o.curves_per_patch,
+                    curvature_continuity: o.curvature_continuity,
+                    align_twist: o.align_twist,
+                },
+                caps: CapsRecord {
+                    start: o.start_cap,
+                    end: o.end_cap,
+                },
+                sections: p.part.sections().iter().map(section_record).collect(),
+            };
+            serde_json::to_value(rec).unwrap_or(Value::Null)
+        })
+        .collect();
+    json!({
+        "format": MODEL_FORMAT,
+        "version": MODEL_VERSION,
+        "units": model.units,
+        "parts": parts,
+    })
+}
+
+/// Writes the model as pretty-printed JSON.
+pub fn write_model<W: Write>(mut writer: W, model: &Model) -> Result<(), ModelError> {
+    serde_json::to_writer_pretty(&mut writer, &model_to_json(model)).map_err(ModelError::Json)?;
+    writer.write_all(b"\n")?;
+    writer.flush()?;
+    Ok(())
+}

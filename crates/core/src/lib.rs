@@ -24,7 +24,11 @@ pub mod mesh;
 pub mod order;
 pub mod part;
 pub mod patch;
+pub mod scan_section;
+pub mod scanner;
+pub mod section;
 pub mod series;
+pub mod shapes;
 pub mod tessellate;
 
 pub use cap::{Cap, CapKind};

@@ -1,9 +1,255 @@
 //! # trigbody-io
 //!
 //! File formats for trigbody: everything that turns bytes into the core's
-//! types and back. The core never reads or writes files itself.
+//! [`Mesh`] and [`PointCloud`] and back. The core never reads or writes
+//! files itself.
+//!
+//! | format | read | write |
+//! | --- | --- | --- |
+//! | OBJ | `v vn vt f`, polygons fan-triangulated, negative indices | `v`, `vn`, `f` (exact f64 text) |
+//! | PLY | ASCII, binary LE/BE, any scalar types, normals, polygon faces, points | binary LE, float or double |
+//! | STL | ASCII and binary (told apart by size, not by "solid"), corners merged | binary |
+//! | XYZ / CSV / TXT | `x y z [nx ny nz]`, header of names optional | space- or comma-separated |
+//!
+//! Every reader works against [`std::io::Read`], every writer against
+//! [`std::io::Write`]; the path functions pick the format by extension.
+//! Reading applies [`ReadOptions`] (unit scale, up axis) and then the core's
+//! validation, so NaN or infinite coordinates are rejected with the vertex
+//! index. No input makes a reader panic: malformed files give an
+//! [`IoError`] naming the file, line or element and byte offset, and the
+//! offending value.
+//!
+//! ```
+//! use trigbody_io::{obj, Geometry, ReadOptions};
+//! // A unit square in millimetres, z up.
+//! let text = "v 0 0 0\nv 1000 0 0\nv 1000 0 1000\nv 0 0 1000\nf 1 2 3 4\n";
+//! let options = ReadOptions { scale: 0.001, up_axis: "z".parse().unwrap() };
+//! let Geometry::Mesh(mesh) = obj::read(text.as_bytes(), &options).unwrap() else {
+//!     panic!("expected a mesh")
+//! };
+//! assert_eq!(mesh.triangles.len(), 2);
+//! // z (up in the file) became y.
+//! assert_eq!(mesh.positions[2].to_array(), [1.0, 1.0, 0.0]);
+//! ```
 
+mod error;
 pub mod fit_json;
+mod format;
 pub mod gltf;
 pub mod loop_text;
 pub mod model;
+pub mod obj;
+mod options;
+pub mod ply;
+pub mod stl;
+mod text;
+pub mod xyz;
+
+pub use error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
+pub use format::Format;
+pub use options::{Geometry, ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
+
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Read, Write};
+use std::path::Path;
+use trigbody_core::{Mesh, PointCloud};
+
+/// Reads geometry of a known format from any reader.
+pub fn read_from<R: Read>(reader: R, format: Format, options: &ReadOptions) -> Result<Geometry> {
+    match format {
+        Format::Obj => obj::read(reader, options),
+        Format::Ply => ply::read(reader, options),
+        Format::Stl => stl::read(reader, options),
+        Format::Xyz => xyz::read(reader, options),
+    }
+}
+
+/// Reads geometry of a known format from bytes in memory.
+pub fn read_bytes(data: &[u8], format: Format, options: &ReadOptions) -> Result<Geometry> {
+    match format {
+        Format::Obj => obj::read_bytes(data, options),
+        Format::Ply => ply::read_bytes(data, options),
+        Format::Stl => stl::read_bytes(data, options),
+        Format::Xyz => xyz::read_bytes(data, options),
+    }
+}
+
+fn format_of(path: &Path) -> Result<Format> {
+    Format::from_path(path).ok_or_else(|| IoError::UnknownExtension {
+        path: path.to_path_buf(),
+    })
+}
+
+/// Reads a file, choosing the format by its extension (case-insensitive
+/// `.obj .ply .stl .xyz .csv .txt`). A file with faces gives
+/// [`Geometry::Mesh`], one without (an XYZ file, a PLY or OBJ of points)
+/// [`Geometry::Points`]. Errors name the file.
+pub fn read_geometry(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Geometry> {
+    let path = path.as_ref();
+    let run = || -> Result<Geometry> {
+        let format = format_of(path)?;
+        let mut data = Vec::new();
+        File::open(path)?.read_to_end(&mut data)?;
+        read_bytes(&data, format, options)
+    };
+    run().map_err(|e| e.with_path(path))
+}
+
+/// Reads a file that must hold a triangle mesh (see [`read_geometry`]);
+/// a file of points only is an [`IoError::WrongKind`].
+pub fn read_mesh(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Mesh> {
+    let path = path.as_ref();
+    match read_geometry(path, options)? {
+        Geometry::Mesh(m) => Ok(m),
+        Geometry::Points(p) => Err(IoError::WrongKind {
+            path: Some(path.to_path_buf()),
+            message: format!(
+                "expected a mesh, but the file holds {} points and no faces",
+                p.positions.len()
+            ),
+        }),
+    }
+}
+
+/// Reads a file as points: a mesh's vertices (faces dropped) or a cloud.
+pub fn read_point_cloud(path: impl AsRef<Path>, options: &ReadOptions) -> Result<PointCloud> {
+    read_geometry(path, options).map(Geometry::into_point_cloud)
+}
+
+/// Writes geometry in `format` to any writer. A mesh written as XYZ keeps
+/// its vertices only; points cannot be written as STL
+/// ([`IoError::WrongKind`]). XYZ is written space-separated here; use
+/// [`xyz::write_points`] for CSV.
+pub fn write_to<W: Write>(
+    writer: W,
+    geometry: &Geometry,
+    format: Format,
+    options: &WriteOptions,
+) -> Result<()> {
+    GeometryRef::from(geometry).write(writer, format, false, options)
+}
+
+/// Borrowed geometry for the path writers (no copy of the data).
+#[derive(Clone, Copy, Debug)]
+enum GeometryRef<'a> {
+    Mesh(&'a Mesh),
+    Points(&'a PointCloud),
+}
+
+impl GeometryRef<'_> {
+    fn validate(self) -> std::result::Result<(), trigbody_core::MeshError> {
+        match self {
+            GeometryRef::Mesh(m) => m.validate(),
+            GeometryRef::Points(p) => p.validate(),
+        }
+    }
+
+    fn write<W: Write>(
+        self,
+        w: W,
+        format: Format,
+        csv: bool,
+        options: &WriteOptions,
+    ) -> Result<()> {
+        let delimiter = if csv {
+            xyz::Delimiter::Comma
+        } else {
+            xyz::Delimiter::Space
+        };
+        match (self, format) {
+            (GeometryRef::Mesh(m), Format::Obj) => obj::write_mesh(w, m),
+            (GeometryRef::Points(p), Format::Obj) => obj::write_points(w, p),
+            (GeometryRef::Mesh(m), Format::Ply) => ply::write_mesh(w, m, options),
+            (GeometryRef::Points(p), Format::Ply) => ply::write_points(w, p, options),
+            (GeometryRef::Mesh(m), Format::Stl) => stl::write_mesh(w, m),
+            (GeometryRef::Points(_), Format::Stl) => Err(IoError::WrongKind {
+                path: None,
+                message: "STL holds triangles only; write points as PLY, OBJ or XYZ".into(),
+            }),
+            (GeometryRef::Mesh(m), Format::Xyz) => {
+                m.validate()?;
+                xyz::write_vertices(w, &m.positions, m.normals.as_deref(), delimiter)
+            }
+            (GeometryRef::Points(p), Format::Xyz) => xyz::write_points(w, p, delimiter),
+        }
+    }
+}
+
+impl<'a> From<&'a Geometry> for GeometryRef<'a> {
+    fn from(g: &'a Geometry) -> Self {
+        match g {
+            Geometry::Mesh(m) => GeometryRef::Mesh(m),
+            Geometry::Points(p) => GeometryRef::Points(p),
+        }
+    }
+}
+
+/// Writes geometry to a file, choosing the format by extension (`.csv`
+/// gives comma-separated values with a header). An existing file is an
+/// [`IoError::AlreadyExists`] unless `options.overwrite` is true; the check
+/// and the creation are one atomic step. Invalid geometry is rejected before
+/// the file is created, and a file left half-written by a failed write is
+/// removed.
+pub fn write_geometry(
+    path: impl AsRef<Path>,
+    geometry: &Geometry,
+    options: &WriteOptions,
+) -> Result<()> {
+    write_path(path.as_ref(), geometry.into(), options)
+}
+
+/// Writes a mesh to a file (see [`write_geometry`]).
+pub fn write_mesh(path: impl AsRef<Path>, mesh: &Mesh, options: &WriteOptions) -> Result<()> {
+    write_path(path.as_ref(), GeometryRef::Mesh(mesh), options)
+}
+
+/// Writes a point cloud to a file (see [`write_geometry`]).
+pub fn write_point_cloud(
+    path: impl AsRef<Path>,
+    cloud: &PointCloud,
+    options: &WriteOptions,
+) -> Result<()> {
+    write_path(path.as_ref(), GeometryRef::Points(cloud), options)
+}
+
+fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) -> Result<()> {
+    let format = format_of(path)?;
+    let csv = Format::is_csv(path);
+    // Check what can be checked before touching the file system.
+    geometry
+        .validate()
+        .map_err(|e| IoError::from(e).with_path(path))?;
+    if let (GeometryRef::Points(_), Format::Stl) = (geometry, format) {
+        return geometry
+            .write(std::io::sink(), format, csv, options)
+            .map_err(|e| e.with_path(path));
+    }
+    let mut open = OpenOptions::new();
+    open.write(true);
+    if options.overwrite {
+        open.create(true).truncate(true);
+    } else {
+        open.create_new(true);
+    }
+    let file = open.open(path).map_err(|e| {
+        if e.kind() == std::io::ErrorKind::AlreadyExists {
+            IoError::AlreadyExists {
+                path: path.to_path_buf(),
+            }
+        } else {
+            IoError::from(e).with_path(path)
+        }
+    })?;
+    let mut w = BufWriter::new(file);
+    let result = geometry.write(&mut w, format, csv, options).and_then(|()| {
+        w.flush()?;
+        w.get_ref().sync_all()?;
+        Ok(())
+    });
+    if let Err(e) = result {
+        drop(w);
+        let _ = std::fs::remove_file(path);
+        return Err(e.with_path(path));
+    }
+    Ok(())
+}

@@ -1,6 +1,6 @@
 //! `trigbody fit [FILE|-]`: fit one loop and report it.
 
-use crate::exit::bad;
+use crate::exit::{bad, print};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use std::io::Read;
@@ -32,8 +32,8 @@ pub struct FitFlags {
     /// Parameter values of the points: chord length or polar angle.
     #[arg(long, value_enum, default_value_t = ParamFlag::Chord)]
     pub param: ParamFlag,
-    /// Point weights: uniform (paper) or the arc length each point stands for.
-    #[arg(long, value_enum, default_value_t = WeightFlag::Uniform)]
+    /// Point weights: the arc length each point stands for, or uniform (the paper's).
+    #[arg(long, value_enum, default_value_t = WeightFlag::Arc)]
     pub weighting: WeightFlag,
     /// Smoothness penalty on high harmonics (0 = plain least squares).
     #[arg(long, default_value_t = 0.0)]
@@ -148,21 +148,20 @@ pub fn run(args: FitArgs) -> Result<()> {
     for w in &fit.warnings {
         eprintln!("trigbody: warning: {name}: {w}");
     }
-    if args.json {
-        let json = serde_json::to_string_pretty(&loop_fit_json(&fit)).context("encoding JSON")?;
-        println!("{json}");
+    let mut out = if args.json {
+        serde_json::to_string_pretty(&loop_fit_json(&fit)).context("encoding JSON")? + "\n"
     } else {
-        print!("{}", fit_table(&name, &points, &fit));
-    }
+        fit_table(&name, &points, &fit)
+    };
     if let (Some(path), Some(format)) = (&args.plot, plot_format) {
         let panel = fit_panel(&name, &points, &fit);
         let bytes = plot_panels(&[panel], format, &PlotOptions::default())?;
         write_output(path, &bytes, args.file.as_deref())?;
         if !args.json {
-            println!("plot written to {}", path.display());
+            out += &format!("plot written to {}\n", path.display());
         }
     }
-    Ok(())
+    print(&out)
 }
 
 fn read_stdin() -> Result<LoopPoints> {

@@ -2,6 +2,7 @@
 //! with the ellipse baseline, and draw them all.
 
 use crate::cmd_fit::{fit_panel, fit_points, image_format, write_output, FitFlags};
+use crate::exit::print;
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
@@ -47,9 +48,10 @@ pub fn run(args: ExamplesArgs) -> Result<()> {
     let opts = args.fit.options();
     let mut panels = Vec::new();
     let mut json = Vec::new();
+    let mut out = String::new();
     if !args.json {
-        println!(
-            "{:<12} {:>6} | {:>9} {:>9} {:>5} | {:>9} {:>9} {:>5} | {:>6} {:>8}",
+        out += &format!(
+            "{:<12} {:>6} | {:>9} {:>9} {:>5} | {:>9} {:>9} {:>5} | {:>6} {:>8}\n",
             "loop", "points", "trig E_a", "E_M", "J", "ell. E_a", "E_M", "meets", "paper", "params"
         );
     }
@@ -65,8 +67,8 @@ pub fn run(args: ExamplesArgs) -> Result<()> {
             let (ea, em, meets) = fit.ellipse.map_or((f64::NAN, f64::NAN, false), |e| {
                 (e.errors.ea, e.errors.em, e.errors.meets(opts.ea, opts.em))
             });
-            println!(
-                "{:<12} {:>6} | {:>8.3}% {:>8.3}% {:>5} | {:>8.3}% {:>8.3}% {:>5} | {:>6} {:>8}",
+            out += &format!(
+                "{:<12} {:>6} | {:>8.3}% {:>8.3}% {:>5} | {:>8.3}% {:>8.3}% {:>5} | {:>6} {:>8}\n",
                 name,
                 fit.plane_points.len(),
                 100.0 * fit.errors.ea,
@@ -86,10 +88,11 @@ pub fn run(args: ExamplesArgs) -> Result<()> {
         panels.push(fit_panel(name, &points, &fit));
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&json)?);
+        out += &serde_json::to_string_pretty(&json)?;
+        out.push('\n');
     } else {
-        println!(
-            "tolerances: E_a ≤ {:.2} %, E_M ≤ {:.2} %; J is the smallest order meeting both ('!' = none did), 'paper' the paper's interpolation pick; the ellipse is the Hyun et al. baseline",
+        out += &format!(
+            "tolerances: E_a ≤ {:.2} %, E_M ≤ {:.2} %; J is the smallest order meeting both ('!' = none did), 'paper' the paper's interpolation pick; the ellipse is the Hyun et al. baseline\n",
             100.0 * opts.ea,
             100.0 * opts.em
         );
@@ -101,7 +104,7 @@ pub fn run(args: ExamplesArgs) -> Result<()> {
     let bytes = plot_panels(&panels, format, &plot_opts)?;
     write_output(&args.plot, &bytes, None)?;
     if !args.json {
-        println!("plot written to {}", args.plot.display());
+        out += &format!("plot written to {}\n", args.plot.display());
     }
-    Ok(())
+    print(&out)
 }

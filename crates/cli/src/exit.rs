@@ -27,3 +27,15 @@ pub fn code_of(e: &anyhow::Error) -> u8 {
         1
     }
 }
+
+/// Writes `text` to standard output. A reader that stopped early (a closed
+/// pipe, as with `| head`) is a normal end, not a failure.
+pub fn print(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(anyhow::Error::new(e).context("writing to standard output")),
+    }
+}

@@ -85,13 +85,23 @@ pub fn fit_ellipse(points: &[Vec2]) -> Option<EllipseFit> {
         .collect();
     // For points spread evenly in v, mean u² = a²/2.
     let (mut a, mut b) = ((2.0 * l1).sqrt(), (2.0 * l2).sqrt());
+    // The point's own parameter v = atan2(w/b, u/a) needs no trigonometry:
+    // with ρ = √((u/a)² + (w/b)²), cos v = (u/a)/ρ and sin v = (w/b)/ρ.
+    let cos_sin = |q: &Vec2, a: Real, b: Real| {
+        let (x, y) = (q.x / a, q.y / b);
+        let rho = (x * x + y * y).sqrt();
+        if rho > 0.0 {
+            (x / rho, y / rho)
+        } else {
+            (1.0, 0.0)
+        }
+    };
     let mut iterations = 0;
     while iterations < MAX_ITERATIONS {
         iterations += 1;
         let (mut uc, mut cc, mut ws, mut ss) = (0.0, 0.0, 0.0, 0.0);
         for q in &uw {
-            let v = (q.y / b).atan2(q.x / a);
-            let (s, c) = v.sin_cos();
+            let (c, s) = cos_sin(q, a, b);
             uc += q.x * c;
             cc += c * c;
             ws += q.y * s;
@@ -106,7 +116,7 @@ pub fn fit_ellipse(points: &[Vec2]) -> Option<EllipseFit> {
         }
         let change = ((na - a) / a).abs().max(((nb - b) / b).abs());
         (a, b) = (na, nb);
-        if change < 1e-15 {
+        if change < 1e-13 {
             break;
         }
     }
@@ -114,10 +124,10 @@ pub fn fit_ellipse(points: &[Vec2]) -> Option<EllipseFit> {
     let floor = (l1.sqrt() * 1e-12).max(Real::MIN_POSITIVE);
     let (mut sum_rel, mut max_rel, mut sum_sq, mut max_d) = (0.0, 0.0 as Real, 0.0, 0.0 as Real);
     for q in &uw {
-        let v = (q.y / b).atan2(q.x / a);
-        let (s, c) = v.sin_cos();
-        let d = (a * c - q.x).hypot(b * s - q.y);
-        let rel = d / q.norm().max(floor);
+        let (c, s) = cos_sin(q, a, b);
+        let (dx, dy) = (a * c - q.x, b * s - q.y);
+        let d = (dx * dx + dy * dy).sqrt();
+        let rel = d / (q.x * q.x + q.y * q.y).sqrt().max(floor);
         sum_rel += rel;
         max_rel = max_rel.max(rel);
         sum_sq += d * d;

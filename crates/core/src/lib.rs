@@ -15,8 +15,10 @@
 
 pub mod cap;
 pub mod curve;
+pub mod distance;
 pub mod ellipse;
 pub mod fit;
+pub mod girth;
 pub mod linalg;
 pub mod lsq;
 pub mod math;

@@ -90,71 +90,6 @@ impl Cholesky {
     }
 }
 
-/// Least squares `min ‖B x − y‖` for a row-major `rows × cols` design matrix
-/// by Householder QR (the stable path when the normal equations are too
-/// ill-conditioned). Solves for several right-hand sides at once; returns
-/// `None` when `B` is rank deficient to `rel_tol`.
-pub fn least_squares_qr(
-    b: &[Real],
-    rows: usize,
-    cols: usize,
-    rhs: &[Vec<Real>],
-    rel_tol: Real,
-) -> Option<Vec<Vec<Real>>> {
-    if rows < cols {
-        return None;
-    }
-    let mut a = b.to_vec();
-    let mut ys: Vec<Vec<Real>> = rhs.to_vec();
-    let norm0 = a.iter().fold(0.0 as Real, |m, x| m.max(x.abs()));
-    for k in 0..cols {
-        let alpha_sq: Real = (k..rows).map(|i| a[i * cols + k].powi(2)).sum();
-        let alpha = alpha_sq.sqrt();
-        if !(alpha > rel_tol * norm0 * (rows as Real).sqrt()) {
-            return None;
-        }
-        let akk = a[k * cols + k];
-        let alpha = if akk > 0.0 { -alpha } else { alpha };
-        // v = x - alpha e1, stored in place of column k below the diagonal.
-        let mut v: Vec<Real> = (k..rows).map(|i| a[i * cols + k]).collect();
-        v[0] -= alpha;
-        let vnorm_sq: Real = v.iter().map(|x| x * x).sum();
-        if vnorm_sq == 0.0 {
-            continue;
-        }
-        for j in k..cols {
-            let dot: Real = (k..rows).map(|i| v[i - k] * a[i * cols + j]).sum();
-            let f = 2.0 * dot / vnorm_sq;
-            for i in k..rows {
-                a[i * cols + j] -= f * v[i - k];
-            }
-        }
-        for y in ys.iter_mut() {
-            let dot: Real = (k..rows).map(|i| v[i - k] * y[i]).sum();
-            let f = 2.0 * dot / vnorm_sq;
-            for i in k..rows {
-                y[i] -= f * v[i - k];
-            }
-        }
-    }
-    // Back substitution with the upper triangle R.
-    Some(
-        ys.iter()
-            .map(|y| {
-                let mut x = vec![0.0; cols];
-                for i in (0..cols).rev() {
-                    let mut s = y[i];
-                    for k in i + 1..cols {
-                        s -= a[i * cols + k] * x[k];
-                    }
-                    x[i] = s / a[i * cols + i];
-                }
-                x
-            })
-            .collect(),
-    )
-}
-
 /// An LU factorization with partial pivoting of a square row-major matrix,
 /// `P A = L U` (used for the K×K skinning systems).
 #[derive(Clone, Debug)]
@@ -316,28 +251,6 @@ mod tests {
     fn cholesky_rejects_singular() {
         let a = vec![1.0, 1.0, 1.0, 1.0];
         assert!(Cholesky::factor(&a, 2, 1e-12).is_none());
-    }
-
-    #[test]
-    fn qr_matches_exact_fit() {
-        // y = 1 + 2t - t² sampled exactly: least squares recovers it.
-        let rows = 9;
-        let b: Vec<Real> = (0..rows)
-            .flat_map(|i| {
-                let t = i as Real / 4.0;
-                [1.0, t, t * t]
-            })
-            .collect();
-        let y: Vec<Real> = (0..rows)
-            .map(|i| {
-                let t = i as Real / 4.0;
-                1.0 + 2.0 * t - t * t
-            })
-            .collect();
-        let x = least_squares_qr(&b, rows, 3, &[y], 1e-13).unwrap();
-        assert_near!(x[0][0], 1.0, 1e-13);
-        assert_near!(x[0][1], 2.0, 1e-13);
-        assert_near!(x[0][2], -1.0, 1e-13);
     }
 
     #[test]

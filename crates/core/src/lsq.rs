@@ -63,15 +63,20 @@ impl FitErrors {
 
 /// A least-squares fitter for one loop at fixed parameters, ready to produce
 /// the fit of every order up to its capacity.
+///
+/// Tables are stored structure-of-arrays (one row of all points per
+/// harmonic) so that the inner loops run over points and vectorize.
 #[derive(Debug)]
 pub struct LoopFitter<'a> {
-    /// Points relative to the centroid (which is the frame's origin).
-    points: &'a [Vec2],
     params: &'a [Real],
+    /// Point coordinates relative to the centroid (the frame's origin).
+    px: Vec<Real>,
+    py: Vec<Real>,
     /// The highest order the tables were built for.
     cap: usize,
-    /// cos(j v_i), sin(j v_i) for j = 1..=cap, row i: [c1, s1, c2, s2, …].
-    table: Vec<Real>,
+    /// `cos(j v_i)` at `[(j-1)·n + i]` and `sin(j v_i)` likewise, j = 1..=cap.
+    cos_table: Vec<Real>,
+    sin_table: Vec<Real>,
     chol: Cholesky,
     /// The number of leading basis functions the factorization supports.
     rank: usize,
@@ -81,8 +86,24 @@ pub struct LoopFitter<'a> {
     /// L⁻¹ Bᵀ W x and L⁻¹ Bᵀ W y (forward solves, nested in the order).
     z_x: Vec<Real>,
     z_y: Vec<Real>,
-    /// |p_i − centroid|, floored away from zero.
-    dbar: Vec<Real>,
+    /// 1 / |p_i − centroid|, with the distance floored away from zero.
+    inv_dbar: Vec<Real>,
+}
+
+/// `Σ a_i b_i` with four partial sums (a fixed order, so results are
+/// reproducible, and independent lanes, so it vectorizes).
+#[inline]
+fn dot(a: &[Real], b: &[Real]) -> Real {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let tail: Real = ra.iter().zip(rb).map(|(x, y)| x * y).sum();
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 impl<'a> LoopFitter<'a> {
@@ -91,7 +112,7 @@ impl<'a> LoopFitter<'a> {
     /// one) and a smoothing penalty `smoothing · (Σ w) · Σ_j j⁴ (α_j² + β_j²)`
     /// on the harmonics (zero for none).
     pub fn new(
-        points: &'a [Vec2],
+        points: &[Vec2],
         params: &'a [Real],
         weights: Option<&[Real]>,
         cap: usize,
@@ -99,54 +120,74 @@ impl<'a> LoopFitter<'a> {
     ) -> LoopFitter<'a> {
         let n = points.len();
         let dim = 2 * cap + 1;
-        let mut table = vec![0.0; n * 2 * cap];
-        // Weighted moments C_m, S_m for m = 0..=2cap.
+        let px: Vec<Real> = points.iter().map(|p| p.x).collect();
+        let py: Vec<Real> = points.iter().map(|p| p.y).collect();
+        let w: Vec<Real> = match weights {
+            Some(w) => w.to_vec(),
+            None => vec![1.0; n],
+        };
+        let wx: Vec<Real> = px.iter().zip(&w).map(|(x, w)| x * w).collect();
+        let wy: Vec<Real> = py.iter().zip(&w).map(|(y, w)| y * w).collect();
+        let (mut s1, mut c1) = (vec![0.0; n], vec![0.0; n]);
+        for (i, v) in params.iter().enumerate() {
+            (s1[i], c1[i]) = v.sin_cos();
+        }
+        // Weighted moments C_m, S_m for m = 0..=2cap, and the right-hand sides.
         let mut cm = vec![0.0; 2 * cap + 1];
         let mut sm = vec![0.0; 2 * cap + 1];
         let mut rhs_x = vec![0.0; dim];
         let mut rhs_y = vec![0.0; dim];
-        for i in 0..n {
-            let w = weights.map_or(1.0, |w| w[i]);
-            let (s1, c1) = params[i].sin_cos();
-            let (mut c, mut s) = (1.0, 0.0);
-            let (px, py) = (points[i].x * w, points[i].y * w);
-            cm[0] += w;
-            rhs_x[0] += px;
-            rhs_y[0] += py;
-            let row = &mut table[i * 2 * cap..(i + 1) * 2 * cap];
-            for m in 1..=2 * cap {
-                (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
-                cm[m] += w * c;
-                sm[m] += w * s;
-                if m <= cap {
-                    row[2 * m - 2] = c;
-                    row[2 * m - 1] = s;
-                    rhs_x[2 * m - 1] += px * c;
-                    rhs_x[2 * m] += px * s;
-                    rhs_y[2 * m - 1] += py * c;
-                    rhs_y[2 * m] += py * s;
+        let mut cos_table = vec![0.0; n * cap];
+        let mut sin_table = vec![0.0; n * cap];
+        cm[0] = w.iter().sum();
+        rhs_x[0] = wx.iter().sum();
+        rhs_y[0] = wy.iter().sum();
+        let (mut c, mut s) = (c1.clone(), s1.clone());
+        for m in 1..=2 * cap {
+            if m > 1 {
+                for i in 0..n {
+                    let (cc, ss) = (c[i] * c1[i] - s[i] * s1[i], s[i] * c1[i] + c[i] * s1[i]);
+                    c[i] = cc;
+                    s[i] = ss;
                 }
+            }
+            cm[m] = dot(&w, &c);
+            sm[m] = dot(&w, &s);
+            if m <= cap {
+                cos_table[(m - 1) * n..m * n].copy_from_slice(&c);
+                sin_table[(m - 1) * n..m * n].copy_from_slice(&s);
+                rhs_x[2 * m - 1] = dot(&wx, &c);
+                rhs_x[2 * m] = dot(&wx, &s);
+                rhs_y[2 * m - 1] = dot(&wy, &c);
+                rhs_y[2 * m] = dot(&wy, &s);
             }
         }
         let gram = gram_from_moments(&cm, &sm, cap, smoothing * cm[0]);
         let (chol, rank) = Cholesky::factor_partial(&gram, dim, PIVOT_TOLERANCE);
         let z_x = chol.forward(&rhs_x, rank);
         let z_y = chol.forward(&rhs_y, rank);
-        let scale = points.iter().map(|p| p.norm()).fold(0.0, Real::max);
+        let dist: Vec<Real> = px
+            .iter()
+            .zip(&py)
+            .map(|(x, y)| (x * x + y * y).sqrt())
+            .collect();
+        let scale = dist.iter().copied().fold(0.0, Real::max);
         let floor = (scale * 1e-12).max(Real::MIN_POSITIVE);
-        let dbar = points.iter().map(|p| p.norm().max(floor)).collect();
+        let inv_dbar = dist.iter().map(|d| 1.0 / d.max(floor)).collect();
         LoopFitter {
-            points,
             params,
+            px,
+            py,
             cap,
-            table,
+            cos_table,
+            sin_table,
             chol,
             rank,
             rhs_x,
             rhs_y,
             z_x,
             z_y,
-            dbar,
+            inv_dbar,
         }
     }
 
@@ -184,29 +225,35 @@ impl<'a> LoopFitter<'a> {
     /// loop's own points and parameters.
     pub fn errors(&self, c: &Coefficients) -> FitErrors {
         let order = c.order().min(self.cap);
-        let n = self.points.len();
-        let (mut sum_rel, mut max_rel, mut sum_sq, mut max_d) =
+        let n = self.px.len();
+        let mut fx = vec![c.a[0]; n];
+        let mut fy = vec![c.b[0]; n];
+        for j in 1..=order {
+            let (ac, as_) = (c.a[2 * j - 1], c.a[2 * j]);
+            let (bs, bc) = (c.b[2 * j - 1], c.b[2 * j]);
+            let tc = &self.cos_table[(j - 1) * n..j * n];
+            let ts = &self.sin_table[(j - 1) * n..j * n];
+            for i in 0..n {
+                fx[i] += ac * tc[i] + as_ * ts[i];
+                fy[i] += bs * ts[i] + bc * tc[i];
+            }
+        }
+        let (mut sum_rel, mut max_rel, mut sum_sq, mut max_sq) =
             (0.0, 0.0 as Real, 0.0, 0.0 as Real);
         for i in 0..n {
-            let row = &self.table[i * 2 * self.cap..];
-            let (mut x, mut y) = (c.a[0], c.b[0]);
-            for j in 1..=order {
-                let (cj, sj) = (row[2 * j - 2], row[2 * j - 1]);
-                x += c.a[2 * j - 1] * cj + c.a[2 * j] * sj;
-                y += c.b[2 * j - 1] * sj + c.b[2 * j] * cj;
-            }
-            let d = (x - self.points[i].x).hypot(y - self.points[i].y);
-            let rel = d / self.dbar[i];
+            let (dx, dy) = (fx[i] - self.px[i], fy[i] - self.py[i]);
+            let d2 = dx * dx + dy * dy;
+            let rel = d2.sqrt() * self.inv_dbar[i];
             sum_rel += rel;
             max_rel = max_rel.max(rel);
-            sum_sq += d * d;
-            max_d = max_d.max(d);
+            sum_sq += d2;
+            max_sq = max_sq.max(d2);
         }
         FitErrors {
             ea: sum_rel / n as Real,
             em: max_rel,
             rms: (sum_sq / n as Real).sqrt(),
-            max: max_d,
+            max: max_sq.sqrt(),
         }
     }
 
@@ -293,22 +340,32 @@ pub fn fit_equally_spaced(points: &[Vec2], v0: Real, order: usize) -> Option<Coe
     let dim = 2 * order + 1;
     let mut cx = vec![0.0; dim];
     let mut cy = vec![0.0; dim];
+    let px: Vec<Real> = points.iter().map(|p| p.x).collect();
+    let py: Vec<Real> = points.iter().map(|p| p.y).collect();
+    // cos v_i, sin v_i by rotating through the equal steps, then each
+    // harmonic from the previous one across all points at once.
     let (ds, dc) = (TAU / n as Real).sin_cos();
-    let (mut s1, mut c1) = v0.sin_cos();
-    for (i, p) in points.iter().enumerate() {
-        if i > 0 {
-            (c1, s1) = (c1 * dc - s1 * ds, s1 * dc + c1 * ds);
+    let (mut c1, mut s1) = (vec![0.0; n], vec![0.0; n]);
+    (s1[0], c1[0]) = v0.sin_cos();
+    for i in 1..n {
+        c1[i] = c1[i - 1] * dc - s1[i - 1] * ds;
+        s1[i] = s1[i - 1] * dc + c1[i - 1] * ds;
+    }
+    cx[0] = px.iter().sum();
+    cy[0] = py.iter().sum();
+    let (mut c, mut s) = (c1.clone(), s1.clone());
+    for j in 1..=order {
+        if j > 1 {
+            for i in 0..n {
+                let (cc, ss) = (c[i] * c1[i] - s[i] * s1[i], s[i] * c1[i] + c[i] * s1[i]);
+                c[i] = cc;
+                s[i] = ss;
+            }
         }
-        cx[0] += p.x;
-        cy[0] += p.y;
-        let (mut c, mut s) = (1.0, 0.0);
-        for j in 1..=order {
-            (c, s) = (c * c1 - s * s1, s * c1 + c * s1);
-            cx[2 * j - 1] += p.x * c;
-            cx[2 * j] += p.x * s;
-            cy[2 * j - 1] += p.y * c;
-            cy[2 * j] += p.y * s;
-        }
+        cx[2 * j - 1] = dot(&px, &c);
+        cx[2 * j] = dot(&px, &s);
+        cy[2 * j - 1] = dot(&py, &c);
+        cy[2 * j] = dot(&py, &s);
     }
     let inv = 1.0 / n as Real;
     cx[0] *= inv;
@@ -372,7 +429,7 @@ mod tests {
             if k == 0 {
                 1.0
             } else if k % 2 == 1 {
-                (((k + 1) / 2) as Real * v).cos()
+                (k.div_ceil(2) as Real * v).cos()
             } else {
                 ((k / 2) as Real * v).sin()
             }

@@ -1,0 +1,417 @@
+//! Distances between points and triangle meshes: a bounding-volume hierarchy
+//! over the triangles with exact closest-point queries, and the symmetric
+//! distance statistics used to judge a model against its input.
+
+use crate::math::{Point3, Real, Vec3};
+use crate::mesh::{Aabb, Mesh};
+
+/// Triangles per leaf of the hierarchy.
+const LEAF_SIZE: usize = 4;
+
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    bounds: Aabb,
+    /// Leaf: first triangle index in `order`, count. Inner: left child index
+    /// (right child is `left + 1`), count 0.
+    start: u32,
+    count: u32,
+}
+
+/// A bounding-volume hierarchy over a mesh's triangles for nearest-point
+/// queries: `closest(p)` returns the point of the surface nearest to `p`.
+#[derive(Debug)]
+pub struct MeshDistance<'m> {
+    mesh: &'m Mesh,
+    nodes: Vec<Node>,
+    order: Vec<u32>,
+}
+
+/// The nearest surface point to a query.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Closest {
+    pub point: Point3,
+    pub distance: Real,
+    pub triangle: usize,
+}
+
+fn tri_bounds(m: &Mesh, t: usize) -> Aabb {
+    let [a, b, c] = m.triangle(t);
+    Aabb {
+        min: a.min(b).min(c),
+        max: a.max(b).max(c),
+    }
+}
+
+fn union(a: Aabb, b: Aabb) -> Aabb {
+    Aabb {
+        min: a.min.min(b.min),
+        max: a.max.max(b.max),
+    }
+}
+
+/// Squared distance from `p` to the box (0 inside).
+#[inline]
+fn box_distance_sq(b: &Aabb, p: Point3) -> Real {
+    let d = Vec3::new(
+        (b.min.x - p.x).max(0.0).max(p.x - b.max.x),
+        (b.min.y - p.y).max(0.0).max(p.y - b.max.y),
+        (b.min.z - p.z).max(0.0).max(p.z - b.max.z),
+    );
+    d.norm_squared()
+}
+
+/// The point of triangle `abc` closest to `p` (Voronoi-region walk over the
+/// vertices, edges and face; exact for non-degenerate and degenerate
+/// triangles alike).
+pub fn closest_point_on_triangle(p: Point3, a: Point3, b: Point3, c: Point3) -> Point3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        let denom = d1 - d3;
+        return if denom > 0.0 {
+            a + ab * (d1 / denom)
+        } else {
+            a
+        };
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        let denom = d2 - d6;
+        return if denom > 0.0 {
+            a + ac * (d2 / denom)
+        } else {
+            a
+        };
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+        let denom = (d4 - d3) + (d5 - d6);
+        return if denom > 0.0 {
+            b + (c - b) * ((d4 - d3) / denom)
+        } else {
+            b
+        };
+    }
+    let sum = va + vb + vc;
+    if !(sum > 0.0) || !sum.is_finite() {
+        // Degenerate (zero-area) triangle: the nearest of its three edges.
+        let seg = |u: Point3, v: Point3| {
+            let e = v - u;
+            let l = e.norm_squared();
+            let t = if l > 0.0 {
+                ((p - u).dot(e) / l).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            u + e * t
+        };
+        let cands = [seg(a, b), seg(b, c), seg(c, a)];
+        return cands
+            .into_iter()
+            .min_by(|x, y| (*x - p).norm_squared().total_cmp(&(*y - p).norm_squared()))
+            .unwrap_or(a);
+    }
+    let (v, w) = (vb / sum, vc / sum);
+    a + ab * v + ac * w
+}
+
+impl<'m> MeshDistance<'m> {
+    /// Builds the hierarchy (median splits along the longest axis). The mesh
+    /// should be valid ([`Mesh::validate`]); an empty mesh gives a hierarchy
+    /// whose queries return `None`.
+    pub fn new(mesh: &'m Mesh) -> MeshDistance<'m> {
+        let n = mesh.triangles.len();
+        let mut order: Vec<u32> = (0..n as u32).collect();
+        let bounds: Vec<Aabb> = (0..n).map(|t| tri_bounds(mesh, t)).collect();
+        let centers: Vec<Point3> = bounds.iter().map(|b| b.center()).collect();
+        let mut nodes = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
+        if n > 0 {
+            nodes.push(Node {
+                bounds: bounds[0],
+                start: 0,
+                count: 0,
+            });
+            // (node index, start, end) to split.
+            let mut stack = vec![(0usize, 0usize, n)];
+            while let Some((ni, s, e)) = stack.pop() {
+                let b = order[s..e]
+                    .iter()
+                    .map(|&t| bounds[t as usize])
+                    .reduce(union)
+                    .unwrap_or(bounds[0]);
+                nodes[ni].bounds = b;
+                if e - s <= LEAF_SIZE {
+                    nodes[ni].start = s as u32;
+                    nodes[ni].count = (e - s) as u32;
+                    continue;
+                }
+                let size = b.size();
+                let axis = if size.x >= size.y && size.x >= size.z {
+                    0
+                } else if size.y >= size.z {
+                    1
+                } else {
+                    2
+                };
+                let mid = (s + e) / 2;
+                order[s..e].select_nth_unstable_by(mid - s, |&x, &y| {
+                    centers[x as usize][axis].total_cmp(&centers[y as usize][axis])
+                });
+                let left = nodes.len();
+                let empty = Node {
+                    bounds: b,
+                    start: 0,
+                    count: 0,
+                };
+                nodes.push(empty);
+                nodes.push(empty);
+                nodes[ni].start = left as u32;
+                nodes[ni].count = 0;
+                stack.push((left, s, mid));
+                stack.push((left + 1, mid, e));
+            }
+        }
+        MeshDistance { mesh, nodes, order }
+    }
+
+    /// The surface point nearest to `p`, or `None` for an empty mesh.
+    pub fn closest(&self, p: Point3) -> Option<Closest> {
+        self.closest_within(p, Real::INFINITY)
+    }
+
+    /// The nearest surface point closer than `max_distance`, if any.
+    pub fn closest_within(&self, p: Point3, max_distance: Real) -> Option<Closest> {
+        if self.nodes.is_empty() {
+            return None;
+        }
+        let mut best_sq = max_distance * max_distance;
+        let mut best: Option<(Point3, usize)> = None;
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        stack.push(0);
+        while let Some(ni) = stack.pop() {
+            let node = &self.nodes[ni as usize];
+            if box_distance_sq(&node.bounds, p) >= best_sq {
+                continue;
+            }
+            if node.count > 0 {
+                let s = node.start as usize;
+                for &t in &self.order[s..s + node.count as usize] {
+                    let [a, b, c] = self.mesh.triangle(t as usize);
+                    let q = closest_point_on_triangle(p, a, b, c);
+                    let d = (q - p).norm_squared();
+                    if d < best_sq {
+                        best_sq = d;
+                        best = Some((q, t as usize));
+                    }
+                }
+            } else {
+                let (l, r) = (node.start, node.start + 1);
+                let dl = box_distance_sq(&self.nodes[l as usize].bounds, p);
+                let dr = box_distance_sq(&self.nodes[r as usize].bounds, p);
+                // Visit the nearer child first (pushed last).
+                if dl <= dr {
+                    stack.push(r);
+                    stack.push(l);
+                } else {
+                    stack.push(l);
+                    stack.push(r);
+                }
+            }
+        }
+        best.map(|(point, triangle)| Closest {
+            point,
+            distance: best_sq.sqrt(),
+            triangle,
+        })
+    }
+
+    /// The distance from `p` to the surface (infinite for an empty mesh).
+    pub fn distance(&self, p: Point3) -> Real {
+        self.closest(p).map_or(Real::INFINITY, |c| c.distance)
+    }
+}
+
+/// Summary statistics of a set of distances.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DistanceStats {
+    pub count: usize,
+    pub rms: Real,
+    pub mean: Real,
+    /// 95th percentile.
+    pub p95: Real,
+    pub max: Real,
+}
+
+impl DistanceStats {
+    /// Statistics of `d` (empty gives all zeros).
+    pub fn of(d: &[Real]) -> DistanceStats {
+        if d.is_empty() {
+            return DistanceStats::default();
+        }
+        let n = d.len() as Real;
+        let mut sorted = d.to_vec();
+        sorted.sort_by(Real::total_cmp);
+        let k = ((0.95 * (d.len() - 1) as Real).round() as usize).min(d.len() - 1);
+        DistanceStats {
+            count: d.len(),
+            rms: (d.iter().map(|x| x * x).sum::<Real>() / n).sqrt(),
+            mean: d.iter().sum::<Real>() / n,
+            p95: sorted[k],
+            max: sorted[d.len() - 1],
+        }
+    }
+}
+
+/// Points spread over a mesh's surface in proportion to area,
+/// deterministically: each triangle gets `round(count · area / total)`
+/// points on a fixed barycentric pattern (at least its centroid when
+/// `count` ≥ triangles). Good for densely sampling a surface to compare it
+/// with another.
+pub fn sample_surface(mesh: &Mesh, count: usize) -> Vec<Point3> {
+    let areas: Vec<Real> = (0..mesh.triangles.len())
+        .map(|t| {
+            let [a, b, c] = mesh.triangle(t);
+            (b - a).cross(c - a).norm() * 0.5
+        })
+        .collect();
+    let total: Real = areas.iter().sum();
+    if !(total > 0.0) {
+        return Vec::new();
+    }
+    let mut out = Vec::with_capacity(count + mesh.triangles.len());
+    let mut carry = 0.0;
+    for (t, area) in areas.iter().enumerate() {
+        carry += count as Real * area / total;
+        let k = carry.floor() as usize;
+        carry -= k as Real;
+        let [a, b, c] = mesh.triangle(t);
+        // A low-discrepancy pattern in the triangle (reflected 2D Kronecker
+        // sequence, golden-ratio based).
+        for i in 0..k {
+            let (mut u, mut v) = (
+                (0.5 + i as Real * 0.754_877_666_246_692_7).fract(),
+                (0.5 + i as Real * 0.569_840_290_998_053_2).fract(),
+            );
+            if u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            out.push(a + (b - a) * u + (c - a) * v);
+        }
+    }
+    out
+}
+
+/// Distances of `points` to the surface of `target`, one per point.
+pub fn distances_to(target: &MeshDistance, points: &[Point3]) -> Vec<Real> {
+    points.iter().map(|p| target.distance(*p)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assert_near;
+
+    fn brute(mesh: &Mesh, p: Point3) -> Real {
+        (0..mesh.triangles.len())
+            .map(|t| {
+                let [a, b, c] = mesh.triangle(t);
+                (closest_point_on_triangle(p, a, b, c) - p).norm()
+            })
+            .fold(Real::INFINITY, Real::min)
+    }
+
+    fn sphere(n: usize) -> Mesh {
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for i in 0..=n {
+            let th = std::f64::consts::PI * i as Real / n as Real;
+            for j in 0..2 * n {
+                let ph = std::f64::consts::PI * j as Real / n as Real;
+                positions.push(Vec3::new(
+                    th.sin() * ph.cos(),
+                    th.cos(),
+                    th.sin() * ph.sin(),
+                ));
+            }
+        }
+        let idx = |i: usize, j: usize| (i * 2 * n + j % (2 * n)) as u32;
+        for i in 0..n {
+            for j in 0..2 * n {
+                triangles.push([idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)]);
+                triangles.push([idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)]);
+            }
+        }
+        Mesh::new(positions, triangles).unwrap()
+    }
+
+    #[test]
+    fn closest_point_regions() {
+        let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::Y);
+        assert_eq!(
+            closest_point_on_triangle(Vec3::new(-1., -1., 0.), a, b, c),
+            a
+        );
+        let f = closest_point_on_triangle(Vec3::new(0.2, 0.2, 5.0), a, b, c);
+        assert!((f - Vec3::new(0.2, 0.2, 0.0)).norm() < 1e-15);
+        let e = closest_point_on_triangle(Vec3::new(0.5, -3.0, 1.0), a, b, c);
+        assert!((e - Vec3::new(0.5, 0.0, 0.0)).norm() < 1e-15);
+        let h = closest_point_on_triangle(Vec3::new(1.0, 1.0, 0.0), a, b, c);
+        assert!((h - Vec3::new(0.5, 0.5, 0.0)).norm() < 1e-15);
+        // Degenerate triangle: a segment.
+        let d = closest_point_on_triangle(Vec3::new(0.5, 1.0, 0.0), a, b, b);
+        assert!((d - Vec3::new(0.5, 0.0, 0.0)).norm() < 1e-15);
+    }
+
+    #[test]
+    fn hierarchy_matches_brute_force() {
+        let m = sphere(12);
+        let bvh = MeshDistance::new(&m);
+        for i in 0..200 {
+            let t = i as Real * 0.7;
+            let p = Vec3::new(1.7 * t.sin(), 1.3 * (0.3 * t).cos(), 0.9 * (1.1 * t).sin())
+                * (0.2 + (i % 7) as Real * 0.3);
+            assert_near!(bvh.distance(p), brute(&m, p), 1e-14);
+        }
+    }
+
+    #[test]
+    fn surface_samples_lie_on_the_surface_and_cover_it() {
+        let m = sphere(16);
+        let s = sample_surface(&m, 5000);
+        assert!((s.len() as i64 - 5000).abs() <= 1);
+        let bvh = MeshDistance::new(&m);
+        assert!(s.iter().all(|p| bvh.distance(*p) < 1e-12));
+        // Roughly even: each octant holds about an eighth.
+        let octant = s
+            .iter()
+            .filter(|p| p.x > 0.0 && p.y > 0.0 && p.z > 0.0)
+            .count();
+        assert!((octant as Real / s.len() as Real - 0.125).abs() < 0.01);
+    }
+
+    #[test]
+    fn stats_of_known_values() {
+        let d: Vec<Real> = (0..=100).map(|i| i as Real).collect();
+        let s = DistanceStats::of(&d);
+        assert_eq!(s.max, 100.0);
+        assert_eq!(s.p95, 95.0);
+        assert_near!(s.mean, 50.0, 1e-12);
+        assert_eq!(DistanceStats::of(&[]).count, 0);
+        let empty = Mesh::default();
+        assert!(MeshDistance::new(&empty).closest(Vec3::ZERO).is_none());
+    }
+}

@@ -6,7 +6,8 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use std::hint::black_box;
 use trigbody_core::{
-    tessellate_part, CapKind, Frame, Part, PartOptions, TessellationOptions, TrigCurve, Vec3,
+    tessellate_part, tessellate_part_into, CapKind, Frame, Part, PartOptions, TessellationOptions,
+    TrigCurve, Vec3,
 };
 
 /// 21 sections of order 10 along a gently curved axis, capped at both ends.

@@ -110,13 +110,12 @@ pub fn glb_bytes(meshes: &[NamedMesh<'_>]) -> Result<Vec<u8>, GltfError> {
             // (none defined) becomes +z rather than an invalid value.
             let bytes: Vec<u8> = normals
                 .iter()
-                .map(|n| {
+                .flat_map(|n| {
                     let v = n.normalized().unwrap_or(trigbody_core::Vec3::Z);
                     let f = [v.x as f32, v.y as f32, v.z as f32];
                     let len = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
                     [f[0] / len, f[1] / len, f[2] / len]
                 })
-                .flatten()
                 .flat_map(|x| x.to_le_bytes())
                 .collect();
             let view = push_view(&mut bin, &bytes, ARRAY_BUFFER);
@@ -166,10 +165,10 @@ pub fn glb_bytes(meshes: &[NamedMesh<'_>]) -> Result<Vec<u8>, GltfError> {
         "buffers": [{ "byteLength": bin.len() }],
     });
     let mut json_bytes = serde_json::to_vec(&doc).map_err(std::io::Error::from)?;
-    while json_bytes.len() % 4 != 0 {
+    while !json_bytes.len().is_multiple_of(4) {
         json_bytes.push(b' ');
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + json_bytes.len() + 8 + bin.len();

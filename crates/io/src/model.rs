@@ -31,7 +31,7 @@
 //! they do not know.
 
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
+use serde_json::Value;
 use std::io::{Read, Write};
 use thiserror::Error;
 use trigbody_core::{CapKind, Frame, Part, PartError, PartOptions, Skinning, TrigCurve, Vec3};
@@ -224,13 +224,16 @@ fn section_record(c: &TrigCurve) -> SectionRecord {
 }
 
 /// Reads a list of curves from `{"curves": [{frame, a, b}, …]}` (the
-/// hand-written input of `trigbody loft`; `"sections"` is accepted as the
-/// key too). Every curve is validated; `what` names the input in messages.
+/// hand-written input of `trigbody loft`, the paper's modelling workflow).
+/// Every curve is validated; `what` names the input in messages.
 pub fn read_curves<R: Read>(reader: R, what: &str) -> Result<Vec<TrigCurve>, ModelError> {
     let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    curves_of(&doc, what)
+}
+
+fn curves_of(doc: &Value, what: &str) -> Result<Vec<TrigCurve>, ModelError> {
     let list = doc
         .get("curves")
-        .or_else(|| doc.get("sections"))
         .cloned()
         .ok_or_else(|| ModelError::Structure {
             context: what.to_string(),
@@ -241,6 +244,34 @@ pub fn read_curves<R: Read>(reader: R, what: &str) -> Result<Vec<TrigCurve>, Mod
         .iter()
         .enumerate()
         .map(|(i, r)| section_curve(r, what, i))
+        .collect()
+}
+
+/// Curves for lofting: either one list `{"curves": [...]}` (one curve per
+/// level, in order), or levels with several curves each,
+/// `{"sections": [{"curves": [...]}, ...]}` (every loop a cut met), returned
+/// per level.
+pub fn read_curve_levels<R: Read>(
+    reader: R,
+    what: &str,
+) -> Result<Vec<Vec<TrigCurve>>, ModelError> {
+    let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    if doc.get("curves").is_some() {
+        return Ok(curves_of(&doc, what)?
+            .into_iter()
+            .map(|c| vec![c])
+            .collect());
+    }
+    let Some(Value::Array(levels)) = doc.get("sections") else {
+        return Err(ModelError::Structure {
+            context: what.to_string(),
+            message: "expected \"curves\" (a list of curves) or \"sections\" (a list of levels, each with \"curves\")".to_string(),
+        });
+    };
+    levels
+        .iter()
+        .enumerate()
+        .map(|(i, level)| curves_of(level, &format!("{what}, section {i}")))
         .collect()
 }
 
@@ -322,14 +353,21 @@ pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
     Ok(Model { units, parts })
 }
 
-/// The model as a JSON document.
-pub fn model_to_json(model: &Model) -> Value {
-    let parts: Vec<Value> = model
+#[derive(Serialize)]
+struct ModelRecord<'a> {
+    format: &'static str,
+    version: u64,
+    units: &'a str,
+    parts: Vec<PartRecord>,
+}
+
+fn model_record(model: &Model) -> ModelRecord<'_> {
+    let parts = model
         .parts
         .iter()
         .map(|p| {
             let o = p.part.options();
-            let rec = PartRecord {
+            PartRecord {
                 name: p.name.clone(),
                 skinning: SkinningRecord {
                     method: o.skinning.name().to_string(),
@@ -342,21 +380,21 @@ pub fn model_to_json(model: &Model) -> Value {
                     end: o.end_cap,
                 },
                 sections: p.part.sections().iter().map(section_record).collect(),
-            };
-            serde_json::to_value(rec).unwrap_or(Value::Null)
+            }
         })
         .collect();
-    json!({
-        "format": MODEL_FORMAT,
-        "version": MODEL_VERSION,
-        "units": model.units,
-        "parts": parts,
-    })
+    ModelRecord {
+        format: MODEL_FORMAT,
+        version: MODEL_VERSION,
+        units: &model.units,
+        parts,
+    }
 }
 
-/// Writes the model as pretty-printed JSON.
+/// Writes the model as pretty-printed JSON (fields in the documented order:
+/// format, version, units, parts).
 pub fn write_model<W: Write>(mut writer: W, model: &Model) -> Result<(), ModelError> {
-    serde_json::to_writer_pretty(&mut writer, &model_to_json(model)).map_err(ModelError::Json)?;
+    serde_json::to_writer_pretty(&mut writer, &model_record(model)).map_err(ModelError::Json)?;
     writer.write_all(b"\n")?;
     writer.flush()?;
     Ok(())

@@ -1,0 +1,175 @@
+//! `trigbody loft SECTIONS.json [--select X,Y,Z] -o PART.json`: skin
+//! cross-section curves into a part and write it as a model file.
+
+use crate::exit::bad;
+use anyhow::Result;
+use clap::{Args, ValueEnum};
+use std::path::PathBuf;
+use trigbody_core::part::DEFAULT_CURVES_PER_PATCH;
+use trigbody_core::{CapKind, Part, PartOptions, Point3, Real, Skinning, TrigCurve, Vec3};
+use trigbody_io::model::{read_curve_levels, write_model, Model, ModelPart};
+
+/// Skinning schemes, one to one with [`Skinning`].
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum SkinningFlag {
+    /// C1 cubic Hermite with chord-length-aware Catmull-Rom tangents (default, measured best).
+    CatmullRom,
+    /// C2 natural cubic spline.
+    NaturalSpline,
+    /// The paper's patches of K curves chained by Eq. 17.
+    PaperChained,
+    /// The paper's patches of K curves without the chaining condition (C0).
+    PaperUnchained,
+}
+
+/// How an end is closed.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum CapFlag {
+    Open,
+    Flat,
+    Dome,
+}
+
+/// Arguments of `trigbody loft`.
+#[derive(Debug, Args)]
+pub struct LoftArgs {
+    /// The curves: `{"curves": [{frame, a, b}, ...]}` in order along the part,
+    /// or `{"sections": [{"curves": [...]}, ...]}` with several loops per level
+    /// (then --select picks one per level).
+    pub sections: PathBuf,
+    /// A point x,y,z near the part: at each level the curve nearest to it
+    /// (first level) or to the previous pick is used.
+    #[arg(long, value_parser = parse_vec3)]
+    pub select: Option<Vec3>,
+    /// The model file to write (one part).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// The part's name (default: the output's file stem).
+    #[arg(long)]
+    pub name: Option<String>,
+    /// The skinning scheme.
+    #[arg(long, value_enum, default_value_t = SkinningFlag::CatmullRom)]
+    pub skinning: SkinningFlag,
+    /// Curves per patch for the paper's schemes.
+    #[arg(long, default_value_t = DEFAULT_CURVES_PER_PATCH)]
+    pub curves_per_patch: usize,
+    /// Chained paper patches also match second derivatives.
+    #[arg(long)]
+    pub curvature_continuity: bool,
+    /// Keep the curves' parameters as given (no twist alignment).
+    #[arg(long)]
+    pub no_align_twist: bool,
+    /// How the first curve's end is closed.
+    #[arg(long, value_enum, default_value_t = CapFlag::Open)]
+    pub start_cap: CapFlag,
+    /// How the last curve's end is closed.
+    #[arg(long, value_enum, default_value_t = CapFlag::Open)]
+    pub end_cap: CapFlag,
+    /// Dome height relative to the end curve's mean radius.
+    #[arg(long, default_value_t = trigbody_core::cap::DEFAULT_DOME_HEIGHT)]
+    pub dome_height: Real,
+    /// The unit of the coordinates, recorded in the model file.
+    #[arg(long, default_value = "m")]
+    pub units: String,
+    /// Replace an existing output file.
+    #[arg(long)]
+    pub force: bool,
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<Real> = s
+        .split(',')
+        .map(|t| t.trim().parse::<Real>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{s}' is not three numbers x,y,z"))?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!("'{s}' is not three finite numbers x,y,z")),
+    }
+}
+
+fn centre(c: &TrigCurve) -> Point3 {
+    let w = c.world_series();
+    Vec3::new(w.x.c[0], w.y.c[0], w.z.c[0])
+}
+
+/// One curve per level: the only one, or the one nearest to the selection.
+fn choose(levels: Vec<Vec<TrigCurve>>, select: Option<Vec3>, file: &str) -> Result<Vec<TrigCurve>> {
+    let mut out = Vec::with_capacity(levels.len());
+    let mut near = select;
+    for (i, level) in levels.into_iter().enumerate() {
+        let pick = match (level.len(), near) {
+            (0, _) => continue,
+            (1, _) => level.into_iter().next(),
+            (_, None) => {
+                return Err(bad(format!(
+                    "{file}: section {i} has {} curves; choose the part with --select x,y,z",
+                    level.len()
+                )))
+            }
+            (_, Some(p)) => level
+                .into_iter()
+                .min_by(|a, b| centre(a).distance(p).total_cmp(&centre(b).distance(p))),
+        };
+        if let Some(c) = pick {
+            if select.is_some() {
+                near = Some(centre(&c));
+            }
+            out.push(c);
+        }
+    }
+    Ok(out)
+}
+
+pub fn run(args: LoftArgs) -> Result<()> {
+    let file = args.sections.display().to_string();
+    let reader = std::fs::File::open(&args.sections).map_err(|e| bad(format!("{file}: {e}")))?;
+    let levels = read_curve_levels(std::io::BufReader::new(reader), &file)
+        .map_err(|e| bad(format!("{file}: {e}")))?;
+    let curves = choose(levels, args.select, &file)?;
+    let cap = |c: CapFlag| match c {
+        CapFlag::Open => CapKind::Open,
+        CapFlag::Flat => CapKind::Flat,
+        CapFlag::Dome => CapKind::Dome {
+            relative_height: args.dome_height,
+        },
+    };
+    let options = PartOptions {
+        skinning: match args.skinning {
+            SkinningFlag::CatmullRom => Skinning::CatmullRom,
+            SkinningFlag::NaturalSpline => Skinning::NaturalSpline,
+            SkinningFlag::PaperChained => Skinning::PaperChained,
+            SkinningFlag::PaperUnchained => Skinning::PaperUnchained,
+        },
+        curves_per_patch: args.curves_per_patch,
+        curvature_continuity: args.curvature_continuity,
+        align_twist: !args.no_align_twist,
+        start_cap: cap(args.start_cap),
+        end_cap: cap(args.end_cap),
+    };
+    let count = curves.len();
+    let part = Part::new(curves, &options).map_err(|e| bad(format!("{file}: {e}")))?;
+    let name = args.name.clone().unwrap_or_else(|| {
+        args.output
+            .file_stem()
+            .map_or("part".to_string(), |s| s.to_string_lossy().into_owned())
+    });
+    let model = Model {
+        units: args.units.clone(),
+        parts: vec![ModelPart { name, part }],
+    };
+    let mut bytes = Vec::new();
+    write_model(&mut bytes, &model)?;
+    crate::cmd_mesh::write_new(&args.output, &bytes, args.force)?;
+    let part = &model.parts[0].part;
+    println!(
+        "{}: {count} curves, {} patches, length {:.4} {}, {} design parameters, skinning {}",
+        args.output.display(),
+        part.segments().len(),
+        part.length(),
+        model.units,
+        part.design_parameters(),
+        options.skinning.name()
+    );
+    Ok(())
+}

@@ -16,7 +16,7 @@
 use crate::cap::Cap;
 use crate::math::{Real, Vec3};
 use crate::mesh::Mesh;
-use crate::part::Part;
+use crate::part::{Part, Skinning};
 use crate::patch::Patch;
 use crate::series::harmonics;
 use std::f64::consts::TAU;
@@ -146,7 +146,65 @@ impl PatchSamples {
     }
 
     /// Appends the row at `u` (positions and normals `sign · ∂v × ∂u`).
-    fn row(&self, u: Real, sign: Real, positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>) {
+    /// Returns true when some normal is undefined (written as zero).
+    fn row(&self, u: Real, sign: Real, positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>) -> bool {
+        let n = self.g.len() / self.terms;
+        let start = positions.len();
+        positions.resize(start + n, Vec3::ZERO);
+        normals.resize(start + n, Vec3::ZERO);
+        let (pos, nrm) = (&mut positions[start..], &mut normals[start..]);
+        // Monomorphized for the common patch sizes (cubic patches have 4
+        // terms), so the sums over m unroll.
+        match self.terms {
+            2 => self.row_n::<2>(u, sign, pos, nrm),
+            3 => self.row_n::<3>(u, sign, pos, nrm),
+            4 => self.row_n::<4>(u, sign, pos, nrm),
+            5 => self.row_n::<5>(u, sign, pos, nrm),
+            6 => self.row_n::<6>(u, sign, pos, nrm),
+            _ => self.row_any(u, sign, pos, nrm),
+        }
+    }
+
+    fn row_n<const N: usize>(
+        &self,
+        u: Real,
+        sign: Real,
+        pos: &mut [Vec3],
+        nrm: &mut [Vec3],
+    ) -> bool {
+        let (mut pw, mut dpw) = ([0.0; N], [0.0; N]);
+        let mut x = 1.0;
+        for m in 0..N {
+            pw[m] = x;
+            dpw[m] = if m == 0 {
+                0.0
+            } else {
+                m as Real * u.powi(m as i32 - 1)
+            };
+            x *= u;
+        }
+        let mut undefined = false;
+        let samples = self.g.chunks_exact(N).zip(self.gv.chunks_exact(N));
+        for ((g, gv), (p_out, n_out)) in samples.zip(pos.iter_mut().zip(nrm.iter_mut())) {
+            let (mut p, mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+            for m in 0..N {
+                p += g[m] * pw[m];
+                du += g[m] * dpw[m];
+                dv += gv[m] * pw[m];
+            }
+            *p_out = p;
+            let c = dv.cross(du);
+            let len2 = c.norm_squared();
+            if len2 > 0.0 && len2.is_finite() {
+                *n_out = c * (sign / len2.sqrt());
+            } else {
+                undefined = true;
+            }
+        }
+        undefined
+    }
+
+    fn row_any(&self, u: Real, sign: Real, pos: &mut [Vec3], nrm: &mut [Vec3]) -> bool {
         let terms = self.terms;
         let mut pw = vec![0.0; terms];
         let mut dpw = vec![0.0; terms];
@@ -160,23 +218,25 @@ impl PatchSamples {
             };
             x *= u;
         }
-        let rows = self.g.chunks_exact(terms).zip(self.gv.chunks_exact(terms));
-        for (g, gv) in rows {
+        let mut undefined = false;
+        let samples = self.g.chunks_exact(terms).zip(self.gv.chunks_exact(terms));
+        for ((g, gv), (p_out, n_out)) in samples.zip(pos.iter_mut().zip(nrm.iter_mut())) {
             let (mut p, mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
             for m in 0..terms {
                 p += g[m] * pw[m];
                 du += g[m] * dpw[m];
                 dv += gv[m] * pw[m];
             }
-            positions.push(p);
-            let nrm = dv.cross(du);
-            let len2 = nrm.norm_squared();
-            normals.push(if len2 > 0.0 && len2.is_finite() {
-                nrm * (sign / len2.sqrt())
+            *p_out = p;
+            let c = dv.cross(du);
+            let len2 = c.norm_squared();
+            if len2 > 0.0 && len2.is_finite() {
+                *n_out = c * (sign / len2.sqrt());
             } else {
-                Vec3::ZERO
-            });
+                undefined = true;
+            }
         }
+        undefined
     }
 }
 
@@ -292,6 +352,9 @@ pub fn tessellate_part_into(
         rows.push(Row::Ring((positions.len() - around) as u32))
     };
 
+    // Rings (by first vertex) where some normal is undefined.
+    let mut undefined: Vec<usize> = Vec::new();
+
     // Start cap: apex first, then rings from the apex toward the first curve.
     // Its u runs against the part, so its normals are negated.
     if let (Some(cap), Some(samples)) = (part.start_cap(), &cap_samples[0]) {
@@ -299,21 +362,20 @@ pub fn tessellate_part_into(
         positions.push(cap.apex);
         normals.push(Vec3::ZERO);
         for r in (1..rings[0]).rev() {
-            samples.row(
-                r as Real / rings[0] as Real,
-                -1.0,
-                &mut positions,
-                &mut normals,
-            );
+            let u = r as Real / rings[0] as Real;
+            if samples.row(u, -1.0, &mut positions, &mut normals) {
+                undefined.push(positions.len() - around);
+            }
             push_ring(&mut rows, &positions);
         }
     }
     for (k, seg) in segments.iter().enumerate() {
         let samples = PatchSamples::new(&seg.patch, &table);
         let steps = along_per[k];
-        if k > 0 {
+        if k > 0 && part.options().skinning == Skinning::PaperUnchained {
             // The shared row: average this patch's normals into the previous
-            // patch's (they differ only where the scheme is C0).
+            // patch's (they differ only where the scheme is C0; elsewhere the
+            // surfaces are C1 and the normals agree).
             let start = positions.len() - around;
             let mut p = Vec::with_capacity(around);
             let mut n = Vec::with_capacity(around);
@@ -321,21 +383,25 @@ pub fn tessellate_part_into(
             for i in 0..around {
                 normals[start + i] = (normals[start + i] + n[i]).normalized().unwrap_or(n[i]);
             }
+            if normals[start..].contains(&Vec3::ZERO) {
+                undefined.push(start);
+            }
         }
         let first = if k == 0 { 0 } else { 1 };
         for j in first..=steps {
-            samples.row(j as Real / steps as Real, 1.0, &mut positions, &mut normals);
+            let u = j as Real / steps as Real;
+            if samples.row(u, 1.0, &mut positions, &mut normals) {
+                undefined.push(positions.len() - around);
+            }
             push_ring(&mut rows, &positions);
         }
     }
     if let (Some(cap), Some(samples)) = (part.end_cap(), &cap_samples[1]) {
         for r in 1..rings[1] {
-            samples.row(
-                r as Real / rings[1] as Real,
-                1.0,
-                &mut positions,
-                &mut normals,
-            );
+            let u = r as Real / rings[1] as Real;
+            if samples.row(u, 1.0, &mut positions, &mut normals) {
+                undefined.push(positions.len() - around);
+            }
             push_ring(&mut rows, &positions);
         }
         rows.push(Row::Apex(positions.len() as u32));
@@ -360,27 +426,26 @@ pub fn tessellate_part_into(
         normals[a as usize] = ring_mean(&normals, r);
     }
     // Normals the grid cannot give (a collapsed ring): the ring's mean.
-    for w in rows.iter() {
-        if let Row::Ring(r) = *w {
-            if normals[r as usize..r as usize + around].contains(&Vec3::ZERO) {
-                let m = ring_mean(&normals, r);
-                for n in &mut normals[r as usize..r as usize + around] {
-                    if *n == Vec3::ZERO {
-                        *n = m;
-                    }
-                }
+    for &r in &undefined {
+        let m = ring_mean(&normals, r as u32);
+        for n in &mut normals[r..r + around] {
+            if *n == Vec3::ZERO {
+                *n = m;
             }
         }
     }
 
     let n = around as u32;
     for w in rows.windows(2) {
+        let start = triangles.len();
         match (w[0], w[1]) {
             (Row::Ring(a), Row::Ring(b)) => {
-                for i in 0..n {
+                triangles.resize(start + 2 * around, [0; 3]);
+                for (i, pair) in triangles[start..].chunks_exact_mut(2).enumerate() {
+                    let i = i as u32;
                     let i1 = if i + 1 == n { 0 } else { i + 1 };
-                    triangles.push([a + i, a + i1, b + i1]);
-                    triangles.push([a + i, b + i1, b + i]);
+                    pair[0] = [a + i, a + i1, b + i1];
+                    pair[1] = [a + i, b + i1, b + i];
                 }
             }
             (Row::Apex(a), Row::Ring(b)) => {
@@ -420,7 +485,7 @@ mod tests {
     use crate::assert_near;
     use crate::cap::CapKind;
     use crate::curve::{Frame, TrigCurve};
-    use crate::part::{PartOptions, Skinning};
+    use crate::part::PartOptions;
     use std::collections::HashMap;
     use std::f64::consts::PI;
 

@@ -19,13 +19,13 @@ pub struct MeshArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Samples around every curve.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = TessellationOptions::default().around)]
     pub around: usize,
     /// Intervals along each patch.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = TessellationOptions::default().along)]
     pub along: usize,
     /// Rings on each cap.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = TessellationOptions::default().cap_rings)]
     pub cap_rings: usize,
     /// Target edge length in model units (overrides --around, --along, --cap-rings).
     #[arg(long)]

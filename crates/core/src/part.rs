@@ -860,4 +860,51 @@ mod tests {
         assert_eq!(patch_breaks(1, 4), vec![0, 1]);
         assert_eq!(patch_breaks(6, 4), vec![0, 3, 6]);
     }
+
+    proptest::proptest! {
+        /// Random sections (orders 1-6, uneven spacing, random phases):
+        /// every scheme interpolates them and is C1 (C0 for the unchained one).
+        #[test]
+        fn random_sections_interpolate_and_join_smoothly(
+            seed in proptest::collection::vec(-1.0f64..1.0, 40),
+            k in 2usize..6,
+        ) {
+            let n = 3 + (seed[0].abs() * 6.0) as usize;
+            let mut z = 0.0;
+            let curves: Vec<TrigCurve> = (0..n)
+                .map(|i| {
+                    z += 0.02 + 0.02 * seed[i + 1].abs();
+                    let order = 1 + ((seed[i + 2].abs() * 6.0) as usize).min(5);
+                    let mut a = vec![0.0; 2 * order + 1];
+                    let mut b = a.clone();
+                    a[1] = 0.06 + 0.01 * seed[i + 3];
+                    b[1] = 0.05 + 0.01 * seed[i + 4];
+                    for j in 2..=order {
+                        a[2 * j - 1] = 0.004 * seed[(i + j) % 40] / j as Real;
+                        b[2 * j] = 0.004 * seed[(i + 2 * j) % 40] / j as Real;
+                    }
+                    let frame = Frame { origin: Vec3::new(0.01 * seed[i + 5], 0.0, z), e1: Vec3::X, e2: Vec3::Y };
+                    TrigCurve::new(frame, a, b).unwrap().shifted(3.0 * seed[i + 6])
+                })
+                .collect();
+            for skinning in Skinning::ALL {
+                let part = Part::new(curves.clone(), &options(skinning, k, false)).unwrap();
+                for (c, &s) in part.curves().iter().zip(part.knots()) {
+                    for i in 0..13 {
+                        let v = i as Real * 0.5;
+                        proptest::prop_assert!((part.point(s, v) - c.point(v)).norm() < 1e-9);
+                    }
+                }
+                for w in part.segments().windows(2) {
+                    for i in 0..13 {
+                        let v = i as Real * 0.5;
+                        let d = (w[0].patch.du(1.0, v) / w[0].length() - w[1].patch.du(0.0, v) / w[1].length()).norm();
+                        if skinning != Skinning::PaperUnchained {
+                            proptest::prop_assert!(d < 1e-9, "{:?}: {}", skinning, d);
+                        }
+                    }
+                }
+            }
+        }
+    }
 }

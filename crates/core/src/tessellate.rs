@@ -668,4 +668,65 @@ mod tests {
             Err(TessellateError::BadEdgeLength(_))
         ));
     }
+
+    /// Rotating and translating the sections moves the mesh rigidly
+    /// (the twist alignment, knots and caps are all frame-independent).
+    #[test]
+    fn rigid_motion_moves_the_mesh_rigidly() {
+        let curves: Vec<TrigCurve> = (0..6)
+            .map(|k| {
+                let z = 0.04 * k as Real;
+                let frame = Frame {
+                    origin: Vec3::new(0.01 * k as Real, 0.0, z),
+                    e1: Vec3::X,
+                    e2: Vec3::Y,
+                };
+                TrigCurve::new(
+                    frame,
+                    vec![0.0, 0.05, 0.0, 0.004, 0.002],
+                    vec![0.0, 0.04, 0.0, 0.001, -0.003],
+                )
+                .unwrap()
+                .shifted(0.2 * k as Real)
+            })
+            .collect();
+        // A rotation about (1, 2, 3) by 0.9 rad, and a large translation.
+        let axis = Vec3::new(1.0, 2.0, 3.0).normalized().unwrap();
+        let (s, c) = 0.9f64.sin_cos();
+        let rot = |v: Vec3| v * c + axis.cross(v) * s + axis * (axis.dot(v) * (1.0 - c));
+        let t = Vec3::new(100.0, -50.0, 20.0);
+        let moved: Vec<TrigCurve> = curves
+            .iter()
+            .map(|cv| TrigCurve {
+                frame: Frame {
+                    origin: rot(cv.frame.origin) + t,
+                    e1: rot(cv.frame.e1),
+                    e2: rot(cv.frame.e2),
+                },
+                ..cv.clone()
+            })
+            .collect();
+        let opts = PartOptions {
+            start_cap: CapKind::Flat,
+            end_cap: CapKind::dome(),
+            ..PartOptions::default()
+        };
+        let a = tessellate_part(
+            &Part::new(curves, &opts).unwrap(),
+            &TessellationOptions::default(),
+        )
+        .unwrap();
+        let b = tessellate_part(
+            &Part::new(moved, &opts).unwrap(),
+            &TessellationOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(a.triangles, b.triangles);
+        for (p, q) in a.positions.iter().zip(&b.positions) {
+            assert!((rot(*p) + t - *q).norm() < 1e-9);
+        }
+        for (n, m) in a.normals.unwrap().iter().zip(b.normals.as_ref().unwrap()) {
+            assert!((rot(*n) - *m).norm() < 1e-9);
+        }
+    }
 }

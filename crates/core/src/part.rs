@@ -31,7 +31,7 @@
 //! to armpits) of three real bodies cut every 3 cm (`docs/skinning.md`):
 //! Catmull-Rom 0.55-0.65 mm RMS on legs and 0.91-1.12 mm on torsos; the
 //! natural spline and the unchained paper patches within a few percent of
-//! it; the chained paper patches 1.2-1.8 times worse, because the Eq. 17
+//! it; the chained paper patches 1.2-2.4 times worse, because the Eq. 17
 //! condition carries each patch's end slope, polynomial wiggles included,
 //! into the next. Hence the default, with the paper's scheme kept as an
 //! option.

@@ -29,12 +29,12 @@
 //!
 //! **Which scheme.** Measured on the leg (ankle to crotch) and torso (crotch
 //! to armpits) of three real bodies cut every 3 cm (`docs/skinning.md`):
-//! Catmull-Rom 0.55-0.65 mm RMS on legs and 0.91-1.12 mm on torsos; the
-//! natural spline and the unchained paper patches within a few percent of
-//! it; the chained paper patches 1.2-2.4 times worse, because the Eq. 17
-//! condition carries each patch's end slope, polynomial wiggles included,
-//! into the next. Hence the default, with the paper's scheme kept as an
-//! option.
+//! Catmull-Rom 0.54-0.62 mm RMS on legs and 0.88-1.05 mm on torsos, tied
+//! with the natural spline (within 6 % either way) and the unchained paper
+//! patches (within 7 %); the chained paper patches up to 2.5 times worse,
+//! because the Eq. 17 condition carries each patch's end slope, polynomial
+//! wiggles included, into the next. Catmull-Rom is the default for its
+//! locality; the paper's scheme is kept as an option.
 //!
 //! ```
 //! use trigbody_core::{tessellate_part, CapKind, Frame, Part, PartOptions, TessellationOptions, TrigCurve, Vec3};

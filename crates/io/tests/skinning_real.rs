@@ -10,7 +10,8 @@
 //! The surface is compared with the original mesh by a symmetric distance:
 //! points of the mesh (its own loops every 5 mm, densified to 2 mm) to the
 //! skinned surface, and the skinned surface's vertices (a fine
-//! tessellation) to the mesh triangles of the same region.
+//! tessellation) to the mesh triangles of the same region (both by the
+//! core's `MeshDistance`).
 //!
 //! `cargo test --release -p trigbody-io --test skinning_real -- --nocapture`
 //! prints the variant × K table.
@@ -18,6 +19,7 @@
 mod common;
 
 use common::shared_data;
+use trigbody_core::distance::MeshDistance;
 use trigbody_core::fit::{fit_loop, FitOptions};
 use trigbody_core::section::{MeshSlicer, SectionLoop, SectionOptions};
 use trigbody_core::{
@@ -27,133 +29,6 @@ use trigbody_core::{
 use trigbody_io::{read_mesh, ReadOptions};
 
 const SPACING: f64 = 0.03;
-
-/// Exact distance from `p` to triangle `abc` (closest point by regions).
-fn point_triangle_distance(p: Point3, a: Point3, b: Point3, c: Point3) -> f64 {
-    let (ab, ac, ap) = (b - a, c - a, p - a);
-    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return ap.norm();
-    }
-    let bp = p - b;
-    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
-    if d3 >= 0.0 && d4 <= d3 {
-        return bp.norm();
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return (a + ab * v).distance(p);
-    }
-    let cp = p - c;
-    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
-    if d6 >= 0.0 && d5 <= d6 {
-        return cp.norm();
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return (a + ac * w).distance(p);
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (b + (c - b) * w).distance(p);
-    }
-    let denom = 1.0 / (va + vb + vc);
-    let (v, w) = (vb * denom, vc * denom);
-    (a + ab * v + ac * w).distance(p)
-}
-
-/// A uniform grid over triangles for nearest-distance queries.
-struct TriangleGrid {
-    tris: Vec<[Point3; 3]>,
-    min: Point3,
-    cell: f64,
-    dims: [usize; 3],
-    cells: Vec<Vec<u32>>,
-}
-
-impl TriangleGrid {
-    fn new(tris: Vec<[Point3; 3]>, cell: f64) -> TriangleGrid {
-        let mut min = Vec3::new(f64::INFINITY, f64::INFINITY, f64::INFINITY);
-        let mut max = -min;
-        for t in &tris {
-            for p in t {
-                min = min.min(*p);
-                max = max.max(*p);
-            }
-        }
-        let dims = [0, 1, 2].map(|k| (((max[k] - min[k]) / cell).floor() as usize) + 1);
-        let mut cells = vec![Vec::new(); dims[0] * dims[1] * dims[2]];
-        for (i, t) in tris.iter().enumerate() {
-            let lo = t[0].min(t[1]).min(t[2]);
-            let hi = t[0].max(t[1]).max(t[2]);
-            let c0 = [0, 1, 2].map(|k| ((lo[k] - min[k]) / cell).floor() as usize);
-            let c1 =
-                [0, 1, 2].map(|k| (((hi[k] - min[k]) / cell).floor() as usize).min(dims[k] - 1));
-            for x in c0[0]..=c1[0] {
-                for y in c0[1]..=c1[1] {
-                    for z in c0[2]..=c1[2] {
-                        cells[(x * dims[1] + y) * dims[2] + z].push(i as u32);
-                    }
-                }
-            }
-        }
-        TriangleGrid {
-            tris,
-            min,
-            cell,
-            dims,
-            cells,
-        }
-    }
-
-    fn distance(&self, p: Point3) -> f64 {
-        self.distance_within(p, f64::INFINITY)
-    }
-
-    /// The distance when it is below `limit`, else some value ≥ `limit`.
-    fn distance_within(&self, p: Point3, limit: f64) -> f64 {
-        let c = [0, 1, 2].map(|k| ((p[k] - self.min[k]) / self.cell).floor() as i64);
-        let mut best = f64::INFINITY;
-        let max_r = self.dims.iter().max().copied().unwrap_or(1) as i64 + 1;
-        for r in 0..=max_r {
-            for x in c[0] - r..=c[0] + r {
-                for y in c[1] - r..=c[1] + r {
-                    for z in c[2] - r..=c[2] + r {
-                        let on_shell =
-                            (x - c[0]).abs() == r || (y - c[1]).abs() == r || (z - c[2]).abs() == r;
-                        if !on_shell || x < 0 || y < 0 || z < 0 {
-                            continue;
-                        }
-                        let (x, y, z) = (x as usize, y as usize, z as usize);
-                        if x >= self.dims[0] || y >= self.dims[1] || z >= self.dims[2] {
-                            continue;
-                        }
-                        for &t in &self.cells[(x * self.dims[1] + y) * self.dims[2] + z] {
-                            let [a, b, cc] = self.tris[t as usize];
-                            best = best.min(point_triangle_distance(p, a, b, cc));
-                        }
-                    }
-                }
-            }
-            // Every triangle not yet seen lies outside the searched cube of
-            // cells, at least this far from p.
-            let reach = (0..3)
-                .map(|k| {
-                    let lo = self.min[k] + (c[k] - r) as f64 * self.cell;
-                    let hi = self.min[k] + (c[k] + r + 1) as f64 * self.cell;
-                    (p[k] - lo).min(hi - p[k])
-                })
-                .fold(f64::INFINITY, f64::min);
-            if best <= reach || reach >= limit {
-                break;
-            }
-        }
-        best
-    }
-}
 
 /// The loop of `loops` containing the horizontal point (x, y, z), else the
 /// one whose centroid is nearest to it.
@@ -184,7 +59,7 @@ struct Region {
     /// Points of the original surface (dense loops).
     mesh_points: Vec<Point3>,
     /// The original triangles of the region, for surface → mesh distances.
-    mesh_grid: TriangleGrid,
+    mesh_region: Mesh,
     orders: Vec<usize>,
 }
 
@@ -212,27 +87,44 @@ fn region(
     }
     // Dense loops every 5 mm over [y0, hi].
     let mut mesh_points = Vec::new();
+    let mut dense = Vec::new();
     let steps = ((hi - y0) / 0.005).round() as usize;
     for k in 0..=steps {
         let y = y0 + (hi - y0) * k as f64 / steps as f64;
         let sec = slicer.section_at(y).unwrap();
-        let l = pick(&sec.loops, seed(y)).unwrap();
+        let l = pick(&sec.loops, seed(y)).unwrap().clone();
         mesh_points.extend(densify(&l.points, 0.002));
+        dense.push(l);
     }
-    // The original triangles of the region: within the height range and
-    // near the dense loop points (so no hand or other leg is included).
-    let near = TriangleGrid::new(mesh_points.iter().map(|&p| [p, p, p]).collect(), 0.02);
-    let tris: Vec<[Point3; 3]> = (0..mesh.triangles.len())
-        .map(|t| mesh.triangle(t))
+    // The original triangles of the region: within the height range, inside
+    // or within 1.5 cm of the part's loop at their height (so no hand or
+    // other leg is included).
+    let triangles: Vec<[u32; 3]> = mesh
+        .triangles
+        .iter()
+        .copied()
         .filter(|t| {
-            let c = (t[0] + t[1] + t[2]) / 3.0;
-            c.y >= y0 - 0.01 && c.y <= hi + 0.01 && near.distance_within(c, 0.015) < 0.015
+            let c = t
+                .iter()
+                .fold(Vec3::ZERO, |s, &i| s + mesh.positions[i as usize])
+                / 3.0;
+            if c.y < y0 - 0.01 || c.y > hi + 0.01 {
+                return false;
+            }
+            let k = (((c.y - y0) / (hi - y0)) * steps as f64)
+                .round()
+                .clamp(0.0, steps as f64) as usize;
+            dense[k].contains(c) || dense[k].distance(c) < 0.015
         })
         .collect();
     Region {
         curves,
         mesh_points,
-        mesh_grid: TriangleGrid::new(tris, 0.005),
+        mesh_region: Mesh {
+            positions: mesh.positions.clone(),
+            normals: None,
+            triangles,
+        },
         orders,
     }
 }
@@ -247,10 +139,8 @@ fn compare(region: &Region, options: &PartOptions) -> (f64, f64) {
         ..TessellationOptions::default()
     };
     let s = tessellate_part(&part, &tess).unwrap();
-    let surface = TriangleGrid::new(
-        (0..s.triangles.len()).map(|t| s.triangle(t)).collect(),
-        0.004,
-    );
+    let surface = MeshDistance::new(&s);
+    let original = MeshDistance::new(&region.mesh_region);
     let (mut sum, mut count, mut max) = (0.0, 0usize, 0.0f64);
     for &p in &region.mesh_points {
         let d = surface.distance(p);
@@ -259,7 +149,7 @@ fn compare(region: &Region, options: &PartOptions) -> (f64, f64) {
         count += 1;
     }
     for &p in &s.positions {
-        let d = region.mesh_grid.distance(p);
+        let d = original.distance(p);
         sum += d * d;
         max = max.max(d);
         count += 1;

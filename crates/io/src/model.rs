@@ -247,15 +247,26 @@ fn curves_of(doc: &Value, what: &str) -> Result<Vec<TrigCurve>, ModelError> {
         .collect()
 }
 
-/// Curves for lofting: either one list `{"curves": [...]}` (one curve per
-/// level, in order), or levels with several curves each,
-/// `{"sections": [{"curves": [...]}, ...]}` (every loop a cut met), returned
-/// per level.
+/// The `format` of the file `trigbody sections --json` writes.
+pub const SECTIONS_FORMAT: &str = "trigbody-sections";
+
+/// Curves for lofting, per level along the part. Accepts
+///
+/// * one list `{"curves": [{frame, a, b}, ...]}` (one curve per level, in
+///   order: the hand-written input of the paper's modelling workflow);
+/// * levels with several curves each, `{"sections": [{"curves": [...]},
+///   ...]}`;
+/// * the output of `trigbody sections --json`: `{"format":
+///   "trigbody-sections", "version": 1, "levels": [{"loops": [{origin, e1,
+///   e2, a, b, ...}, ...]}, ...]}` (every loop a cut met, its frame inline).
 pub fn read_curve_levels<R: Read>(
     reader: R,
     what: &str,
 ) -> Result<Vec<Vec<TrigCurve>>, ModelError> {
     let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    if doc.get("format").and_then(Value::as_str) == Some(SECTIONS_FORMAT) {
+        return sections_file_levels(&doc, what);
+    }
     if doc.get("curves").is_some() {
         return Ok(curves_of(&doc, what)?
             .into_iter()
@@ -265,13 +276,62 @@ pub fn read_curve_levels<R: Read>(
     let Some(Value::Array(levels)) = doc.get("sections") else {
         return Err(ModelError::Structure {
             context: what.to_string(),
-            message: "expected \"curves\" (a list of curves) or \"sections\" (a list of levels, each with \"curves\")".to_string(),
+            message: "expected \"curves\" (a list of curves), \"sections\" (a list of levels, each with \"curves\") or a trigbody-sections file".to_string(),
         });
     };
     levels
         .iter()
         .enumerate()
         .map(|(i, level)| curves_of(level, &format!("{what}, section {i}")))
+        .collect()
+}
+
+fn sections_file_levels(doc: &Value, what: &str) -> Result<Vec<Vec<TrigCurve>>, ModelError> {
+    match doc.get("version") {
+        Some(v) if v.as_u64() == Some(1) => {}
+        other => {
+            return Err(ModelError::UnknownVersion {
+                found: other.map_or("missing".to_string(), |v| v.to_string()),
+            })
+        }
+    }
+    let Some(Value::Array(levels)) = doc.get("levels") else {
+        return Err(ModelError::Structure {
+            context: what.to_string(),
+            message: "a trigbody-sections file needs a \"levels\" list".to_string(),
+        });
+    };
+    levels
+        .iter()
+        .enumerate()
+        .map(|(i, level)| {
+            let context = format!("{what}, level {i}");
+            let loops = level
+                .get("loops")
+                .and_then(Value::as_array)
+                .ok_or_else(|| ModelError::Structure {
+                    context: context.clone(),
+                    message: "no \"loops\" list".to_string(),
+                })?;
+            loops
+                .iter()
+                .enumerate()
+                .map(|(k, l)| {
+                    // The frame is inline: {origin, e1, e2, a, b, ...}.
+                    let mut rec = l.clone();
+                    if rec.get("frame").is_none() {
+                        if let (Some(o), Some(e1), Some(e2)) =
+                            (l.get("origin"), l.get("e1"), l.get("e2"))
+                        {
+                            rec["frame"] = serde_json::json!({ "origin": o, "e1": e1, "e2": e2 });
+                        }
+                    }
+                    let r: SectionRecord = serde_json::from_value(rec)
+                        .map_err(structure(format!("{context}, loop {k}")))?;
+                    section_curve(&r, &context, k)
+                })
+                .collect()
+        })
         .collect()
 }
 

@@ -215,3 +215,37 @@ fn curve_lists_read_and_validate() {
     assert!(err.to_string().contains("in.json"), "{err}");
     assert!(err.to_string().contains("section 1"), "{err}");
 }
+
+#[test]
+fn sections_files_read_per_level() {
+    use trigbody_io::model::read_curve_levels;
+    let loop_json = |x: f64, y: f64| {
+        format!(
+            r#"{{"origin": [{x}, {y}, 0], "e1": [0, 0, 1], "e2": [1, 0, 0], "normal": [0, 1, 0],
+                "order": 1, "a": [0, 0.05, 0], "b": [0, 0.04, 0], "ea": 0.001, "em": 0.002, "met": true}}"#
+        )
+    };
+    let doc = format!(
+        r#"{{"format": "trigbody-sections", "version": 1, "input": "body.obj", "kind": "mesh",
+            "axis": [0, 1, 0], "levels": [
+              {{"offset": 0.1, "loops": [{}, {}]}},
+              {{"offset": 0.13, "loops": [{}]}}
+            ]}}"#,
+        loop_json(-0.1, 0.1),
+        loop_json(0.1, 0.1),
+        loop_json(0.1, 0.13)
+    );
+    let levels = read_curve_levels(doc.as_bytes(), "s.json").unwrap();
+    assert_eq!(levels.iter().map(Vec::len).collect::<Vec<_>>(), [2, 1]);
+    assert_eq!(levels[1][0].frame.origin, Vec3::new(0.1, 0.13, 0.0));
+    let v2 = doc.replace("\"version\": 1", "\"version\": 2");
+    assert!(matches!(
+        read_curve_levels(v2.as_bytes(), "s.json"),
+        Err(ModelError::UnknownVersion { .. })
+    ));
+    let flat = r#"{"curves": [{"frame": {"origin": [0,0,0], "e1": [1,0,0], "e2": [0,1,0]}, "a": [0,1,0], "b": [0,1,0]}]}"#;
+    assert_eq!(
+        read_curve_levels(flat.as_bytes(), "c.json").unwrap().len(),
+        1
+    );
+}

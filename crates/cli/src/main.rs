@@ -7,6 +7,8 @@
 mod cmd_fit;
 mod cmd_loft;
 mod cmd_mesh;
+mod cmd_scan;
+mod cmd_sections;
 mod examples;
 mod exit;
 
@@ -32,6 +34,10 @@ enum Command {
     Loft(cmd_loft::LoftArgs),
     /// Tessellate a model into a mesh (.glb, .obj, .ply, .stl).
     Mesh(cmd_mesh::MeshArgs),
+    /// Cut a mesh or a scan with parallel planes and fit every loop.
+    Sections(cmd_sections::SectionsArgs),
+    /// Make a virtual multi-view scan (points with normals) of a mesh.
+    Scan(cmd_scan::ScanArgs),
 }
 
 fn main() -> ExitCode {
@@ -48,6 +54,8 @@ fn main() -> ExitCode {
         Command::Examples(args) => examples::run(args),
         Command::Loft(args) => cmd_loft::run(args),
         Command::Mesh(args) => cmd_mesh::run(args),
+        Command::Sections(args) => cmd_sections::run(args),
+        Command::Scan(args) => cmd_scan::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

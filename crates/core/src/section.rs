@@ -50,6 +50,28 @@ use crate::curve::Frame;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::mesh::{Mesh, MeshError};
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// A multiplicative hash for edge keys (two vertex indices): the default
+/// SipHash is several times slower and its DoS resistance is not needed.
+#[derive(Default)]
+struct EdgeHasher(u64);
+
+impl Hasher for EdgeHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0.rotate_left(8) ^ u64::from(b)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+        }
+    }
+    fn write_u32(&mut self, v: u32) {
+        self.0 = (self.0.rotate_left(32) ^ u64::from(v)).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+}
+
+type EdgeMap = HashMap<(u32, u32), u32, BuildHasherDefault<EdgeHasher>>;
 use thiserror::Error;
 
 /// A plane through `origin` with unit normal `normal`.
@@ -410,7 +432,7 @@ impl<'m> MeshSlicer<'m> {
         let candidates = self.sorted[lo..hi].iter().chain(self.tall.iter());
 
         let h = |v: u32| self.heights[v as usize] - offset;
-        let mut node_of: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut node_of = EdgeMap::default();
         let mut nodes: Vec<Point3> = Vec::new();
         let mut segments: Vec<[u32; 2]> = Vec::new();
         let mut node = |a: u32, b: u32, nodes: &mut Vec<Point3>| -> u32 {

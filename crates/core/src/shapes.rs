@@ -144,11 +144,11 @@ pub fn merge(meshes: &[Mesh]) -> Mesh {
 /// A crude standing "body" about 1.7 units tall along +z, facing +y, built
 /// from separate closed solids (which overlap, as a body's parts do not):
 /// two legs, a trunk, two vertical arms beside the trunk and a head.
-/// `detail` scales the vertex count (detail 1 ≈ 3 000 vertices; 4 ≈ 13 000).
+/// `detail` scales the vertex count: about 3 300 `detail²` vertices
+/// (detail 2 ≈ 13 000, like the MakeHuman bodies).
 pub fn stick_body(detail: usize) -> Mesh {
-    let d = detail.max(1);
-    let (rings, slices) = (12 * d, 48 * d.min(4));
-    let rings = rings.max(2);
+    let d = detail.clamp(1, 16);
+    let (rings, slices) = (12 * d, 48 * d);
     merge(&[
         cylinder(Vec3::new(-0.1, 0.0, 0.0), 0.07, 0.85, rings, slices),
         cylinder(Vec3::new(0.1, 0.0, 0.0), 0.07, 0.85, rings, slices),

@@ -10,7 +10,7 @@ mod common;
 
 use common::shared_data;
 use trigbody_core::fit::{fit_loop, FitOptions, OrderChoice};
-use trigbody_core::scan_section::{scan_fit_options, CloudSlicer, ScanSectionOptions};
+use trigbody_core::scan_section::{CloudSlicer, ScanSectionOptions};
 use trigbody_core::scanner::{virtual_scan, ScannerOptions};
 use trigbody_core::section::{MeshSlicer, SectionLoop, SectionOptions};
 use trigbody_core::{Mesh, Point3, PointCloud, Vec2, Vec3};
@@ -144,8 +144,10 @@ fn curve_rms(a: &[Point3], b: &[Point3]) -> f64 {
 }
 
 /// Fits the mesh loop (automatic order) and the scan loop at the same order
-/// with the scan smoothing, and returns the RMS distance between the two
-/// curves (1000 samples each) with the order.
+/// (plain least squares: at a known order the smoothness penalty only costs
+/// accuracy, see `quarter_loop_holes_are_bridged_by_the_fit` for where it
+/// is needed), and returns the RMS distance between the two curves (1000
+/// samples each) with the order.
 fn fitted_rms(mesh_loop: &[Point3], scan_loop: &[Point3]) -> (f64, usize) {
     let base = FitOptions {
         reference: Some(Vec3::Z),
@@ -157,7 +159,7 @@ fn fitted_rms(mesh_loop: &[Point3], scan_loop: &[Point3]) -> (f64, usize) {
         order: OrderChoice::Fixed(mf.order),
         ..base
     };
-    let sf = fit_loop(scan_loop, &scan_fit_options(&fixed)).unwrap();
+    let sf = fit_loop(scan_loop, &fixed).unwrap();
     (
         curve_rms(&mf.curve.sample(1000), &sf.curve.sample(1000)),
         mf.order,
@@ -189,7 +191,7 @@ fn scan_versus_mesh(name: &str, m: &Mesh, cloud: &PointCloud) {
             // (cut obliquely, their inner side shadowed by the torso) are
             // held to a looser bound.
             let is_arm = *expected == 3 && l.area < largest;
-            let bound = if is_arm { 0.004 } else { 0.002 };
+            let bound = if is_arm { 0.005 } else { 0.002 };
             println!(
                 "  {level:5} {:5} J={order:2} rms {:.2} mm  (widest gap {:.0} mm, {} points, ring {})",
                 if is_arm { "arm" } else { "main" },
@@ -228,4 +230,93 @@ fn external_scan_matches_mesh_sections() {
     let cloud =
         read_point_cloud(data.join("scans/mh_male_scan.ply"), &ReadOptions::default()).unwrap();
     scan_versus_mesh("mh_male_scan.ply (external)", &m, &cloud);
+}
+
+/// A scanner hole covering a quarter of a loop: the points of the virtual
+/// scan in a 90° wedge around one thigh (and one calf) are removed. The
+/// slab loop is ordered across the gap and the fit bridges it; the
+/// smoothness penalty keeps the bridge close to the true section.
+#[test]
+fn quarter_loop_holes_are_bridged_by_the_fit() {
+    let Some((name, m)) = bodies().into_iter().nth(1) else {
+        return;
+    };
+    let scan = virtual_scan(&m, &ScannerOptions::default()).unwrap();
+    let ms = MeshSlicer::new(&m, Vec3::Y, &SectionOptions::default()).unwrap();
+    let (lo, hi) = ms.range();
+    for (level, f) in [("thigh", 0.40), ("calf", 0.20)] {
+        let y = lo + f * (hi - lo);
+        let sec = ms.section_at(y).unwrap();
+        for l in &sec.loops {
+            let c = l.centroid;
+            for start in [0.0f64, 90.0, 180.0, 270.0] {
+                let (a0, a1) = (start.to_radians(), (start + 90.0).to_radians());
+                let keep: Vec<usize> = (0..scan.cloud.positions.len())
+                    .filter(|&i| {
+                        let p = scan.cloud.positions[i];
+                        let d = p - c;
+                        let a = d.x.atan2(d.z).rem_euclid(std::f64::consts::TAU);
+                        !((p.y - y).abs() < 0.05 && d.x.hypot(d.z) < 0.15 && a >= a0 && a < a1)
+                    })
+                    .collect();
+                let holed = PointCloud {
+                    positions: keep.iter().map(|&i| scan.cloud.positions[i]).collect(),
+                    normals: scan
+                        .cloud
+                        .normals
+                        .as_ref()
+                        .map(|n| keep.iter().map(|&i| n[i]).collect()),
+                };
+                let cs = CloudSlicer::new(&holed, Vec3::Y).unwrap();
+                let s = cs.section_at(y, &ScanSectionOptions::default()).unwrap();
+                let i = s.select(c).unwrap();
+                let sl = &s.loops[i];
+                let base = FitOptions {
+                    reference: Some(Vec3::Z),
+                    normal: Some(Vec3::Y),
+                    ..Default::default()
+                };
+                let mf = fit_loop(&l.points, &base).unwrap();
+                let mesh_curve = mf.curve.sample(1000);
+                let mut line = format!(
+                    "  {name} {level} hole {start:>3}°-{:>3}°: gap {:.0} mm; rms (mm)",
+                    start + 90.0,
+                    sl.max_gap * 1e3
+                );
+                let default = trigbody_core::scan_section::DEFAULT_SCAN_SMOOTHING;
+                let mut results = Vec::new();
+                for (order, label) in [
+                    (OrderChoice::Fixed(mf.order), "mesh's J"),
+                    (OrderChoice::Auto, "auto J"),
+                ] {
+                    for smoothing in [0.0, default, 1e-4] {
+                        let o = FitOptions {
+                            order,
+                            smoothing,
+                            ..base
+                        };
+                        let sf = fit_loop(&sl.outline.points, &o).unwrap();
+                        let rms = curve_rms(&mesh_curve, &sf.curve.sample(1000));
+                        line += &format!(" {label} λ={smoothing:e}: {:.2}", rms * 1e3);
+                        results.push(rms);
+                    }
+                }
+                println!("{line}");
+                assert!(sl.max_gap > 0.03, "the hole should show as a gap");
+                // at the mesh's order with the default smoothing, and at the
+                // automatic order with λ = 1e-4 (without smoothing the
+                // automatic order can run away across the hole)
+                assert!(
+                    results[1] < 0.005,
+                    "{level}: bridged curve {} m RMS from the mesh's",
+                    results[1]
+                );
+                assert!(
+                    results[5] < 0.004,
+                    "{level}: auto-order bridged curve {} m RMS",
+                    results[5]
+                );
+            }
+        }
+    }
 }

@@ -1,0 +1,292 @@
+//! `trigbody sections INPUT`: cut a mesh (plane sections) or a scan (slab
+//! sections) with parallel planes and fit every loop.
+
+use crate::cmd_fit::FitFlags;
+use crate::exit::{bad, print};
+use anyhow::{Context, Result};
+use clap::{Args, ValueEnum};
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use trigbody_core::fit::fit_loop;
+use trigbody_core::scan_section::{scan_fit_options, CloudSlicer, ScanSectionOptions};
+use trigbody_core::section::{MeshSlicer, SectionOptions};
+use trigbody_core::{FitOptions, LoopFit, Point3, Real, Vec3};
+use trigbody_io::{read_geometry, Geometry, ReadOptions};
+
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum AxisFlag {
+    X,
+    Y,
+    Z,
+}
+
+impl AxisFlag {
+    fn vector(self) -> Vec3 {
+        match self {
+            AxisFlag::X => Vec3::X,
+            AxisFlag::Y => Vec3::Y,
+            AxisFlag::Z => Vec3::Z,
+        }
+    }
+}
+
+/// Arguments of `trigbody sections`.
+#[derive(Debug, Args)]
+pub struct SectionsArgs {
+    /// A mesh (OBJ, PLY, STL: plane sections) or a point cloud (PLY without
+    /// faces, XYZ: slab sections).
+    pub input: PathBuf,
+    /// The axis the cutting planes are normal to (the files' up axis is y).
+    #[arg(long, value_enum, default_value_t = AxisFlag::Y)]
+    pub axis: AxisFlag,
+    /// Number of evenly spaced planes between --from and --to (each at the
+    /// middle of its share).
+    #[arg(long, default_value_t = 20, conflicts_with = "step")]
+    pub count: usize,
+    /// Distance between planes instead of --count (the first half a step
+    /// above --from).
+    #[arg(long)]
+    pub step: Option<Real>,
+    /// Lowest offset along the axis (default: the input's lowest point).
+    #[arg(long)]
+    pub from: Option<Real>,
+    /// Highest offset along the axis (default: the input's highest point).
+    #[arg(long)]
+    pub to: Option<Real>,
+    /// Half-thickness of the slab for scans (default: the point spacing).
+    #[arg(long)]
+    pub half_thickness: Option<Real>,
+    /// Front direction x,y,z: v = 0 of every fitted curve lies along it.
+    #[arg(long, value_parser = parse_vec3)]
+    pub reference: Option<Vec3>,
+    #[command(flatten)]
+    pub fit: FitFlags,
+    /// Write every level and loop (frame, coefficients, errors) as JSON.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+}
+
+fn parse_vec3(s: &str) -> Result<Vec3, String> {
+    let v: Vec<Real> = s
+        .split(',')
+        .map(|t| t.trim().parse::<Real>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("'{s}' is not three numbers x,y,z"))?;
+    match v[..] {
+        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
+        _ => Err(format!("'{s}' is not three finite numbers x,y,z")),
+    }
+}
+
+/// One loop of one level: its ordered points and where they came from.
+struct CutLoop {
+    points: Vec<Point3>,
+    perimeter: Real,
+    area: Real,
+    note: String,
+}
+
+pub fn run(args: SectionsArgs) -> Result<()> {
+    let name = args.input.display().to_string();
+    let geometry = read_geometry(&args.input, &ReadOptions::default()).map_err(bad)?;
+    let axis = args.axis.vector();
+    let base = FitOptions {
+        reference: args.reference,
+        normal: Some(axis),
+        ..args.fit.options()
+    };
+    // Cutters: one closure per input kind giving the loops at an offset.
+    let mesh_slicer;
+    let cloud_slicer;
+    let scan_opts = ScanSectionOptions {
+        half_thickness: args.half_thickness,
+        reference: args.reference,
+        ..Default::default()
+    };
+    let (range, is_scan) = match &geometry {
+        Geometry::Mesh(m) => {
+            let opts = SectionOptions {
+                reference: args.reference,
+                ..Default::default()
+            };
+            mesh_slicer =
+                Some(MeshSlicer::new(m, axis, &opts).map_err(|e| bad(format!("{name}: {e}")))?);
+            cloud_slicer = None;
+            (mesh_slicer.as_ref().map(|s| s.range()), false)
+        }
+        Geometry::Points(p) => {
+            cloud_slicer =
+                Some(CloudSlicer::new(p, axis).map_err(|e| bad(format!("{name}: {e}")))?);
+            mesh_slicer = None;
+            (cloud_slicer.as_ref().map(|s| s.range()), true)
+        }
+    };
+    let (lo, hi) = range.context("no slicer")?;
+    let from = args.from.unwrap_or(lo);
+    let to = args.to.unwrap_or(hi);
+    if !(from.is_finite() && to.is_finite() && from < to) {
+        return Err(bad(format!("--from {from} must be below --to {to}")));
+    }
+    if to < lo || from > hi {
+        return Err(bad(format!(
+            "{name}: --from {from} --to {to} lies outside the input, which spans [{lo}, {hi}] along {:?}",
+            args.axis
+        )));
+    }
+    let offsets: Vec<Real> = match args.step {
+        Some(step) if step.is_finite() && step > 0.0 => {
+            let n = ((to - from) / step).floor() as usize;
+            if n > 100_000 {
+                return Err(bad(format!("--step {step} gives more than 100 000 planes")));
+            }
+            (0..n.max(1))
+                .map(|k| from + (k as Real + 0.5) * step)
+                .collect()
+        }
+        Some(step) => return Err(bad(format!("--step {step} must be a positive number"))),
+        None if args.count == 0 || args.count > 100_000 => {
+            return Err(bad(format!("--count {} must be in 1..=100000", args.count)))
+        }
+        None => (0..args.count)
+            .map(|k| from + (k as Real + 0.5) * (to - from) / args.count as Real)
+            .collect(),
+    };
+    let fit_opts = if is_scan {
+        scan_fit_options(&base)
+    } else {
+        base
+    };
+
+    let mut table = format!(
+        "{name}: {} sections normal to {:?} from {from:.4} to {to:.4} ({})\n",
+        offsets.len(),
+        args.axis,
+        if is_scan {
+            "slabs of a point cloud"
+        } else {
+            "plane sections of a mesh"
+        }
+    );
+    table += &format!(
+        "  {:>10} {:>4} {:>6} {:>10} {:>10} {:>5} {:>9} {:>9} {:>9} {:>9}\n",
+        "offset", "loop", "points", "perimeter", "area", "J", "E_a", "E_M", "ell. E_a", "ell. E_M"
+    );
+    let mut levels = Vec::new();
+    for &offset in &offsets {
+        let loops: Vec<CutLoop> = if let Some(s) = &mesh_slicer {
+            match s.section_at(offset) {
+                Ok(sec) => {
+                    for c in &sec.open_chains {
+                        eprintln!(
+                            "trigbody: warning: {name}: an open chain of {} points at offset {offset} (open or non-manifold surface)",
+                            c.len()
+                        );
+                    }
+                    sec.loops
+                        .into_iter()
+                        .map(|l| CutLoop {
+                            perimeter: l.perimeter,
+                            area: l.area,
+                            points: l.points,
+                            note: String::new(),
+                        })
+                        .collect()
+                }
+                Err(e) => {
+                    eprintln!("trigbody: warning: {name}: {e}");
+                    Vec::new()
+                }
+            }
+        } else if let Some(s) = &cloud_slicer {
+            match s.section_at(offset, &scan_opts) {
+                Ok(sec) => sec
+                    .loops
+                    .into_iter()
+                    .map(|l| CutLoop {
+                        perimeter: l.outline.perimeter,
+                        area: l.outline.area,
+                        note: if l.closed_ring {
+                            String::new()
+                        } else {
+                            format!("  (gap {:.4} bridged)", l.max_gap)
+                        },
+                        points: l.outline.points,
+                    })
+                    .collect(),
+                Err(e) => {
+                    eprintln!("trigbody: warning: {name}: {e}");
+                    Vec::new()
+                }
+            }
+        } else {
+            Vec::new()
+        };
+        let mut json_loops = Vec::new();
+        if loops.is_empty() {
+            table += &format!("  {offset:>10.4}    -      0   (no loop)\n");
+        }
+        for (i, l) in loops.iter().enumerate() {
+            match fit_loop(&l.points, &fit_opts) {
+                Ok(fit) => {
+                    table += &format!(
+                        "  {offset:>10.4} {i:>4} {:>6} {:>10.4} {:>10.5} {:>5} {:>9} {:>9} {:>9} {:>9}{}\n",
+                        l.points.len(),
+                        l.perimeter,
+                        l.area,
+                        fit.order,
+                        pct(fit.errors.ea),
+                        pct(fit.errors.em),
+                        fit.ellipse.map_or("-".into(), |e| pct(e.errors.ea)),
+                        fit.ellipse.map_or("-".into(), |e| pct(e.errors.em)),
+                        l.note
+                    );
+                    json_loops.push(loop_json(l, &fit));
+                }
+                Err(e) => {
+                    eprintln!("trigbody: warning: {name}: loop {i} at offset {offset}: {e}");
+                }
+            }
+        }
+        levels.push(json!({ "offset": offset, "loops": json_loops }));
+    }
+    if let Some(path) = &args.json {
+        let doc = json!({
+            "format": "trigbody-sections",
+            "version": 1,
+            "input": name,
+            "kind": if is_scan { "scan" } else { "mesh" },
+            "axis": axis.to_array(),
+            "levels": levels,
+        });
+        let text = serde_json::to_string_pretty(&doc).context("encoding JSON")? + "\n";
+        crate::cmd_fit::write_output(path, text.as_bytes(), Some(&args.input))?;
+        table += &format!("JSON written to {}\n", path.display());
+    }
+    print(&table)
+}
+
+fn pct(x: Real) -> String {
+    format!("{:.3}%", 100.0 * x)
+}
+
+/// One loop in the JSON file: frame, the paper's coefficients, errors and
+/// the ellipse baseline's errors.
+fn loop_json(l: &CutLoop, fit: &LoopFit) -> Value {
+    let f = &fit.curve.frame;
+    json!({
+        "origin": f.origin.to_array(),
+        "e1": f.e1.to_array(),
+        "e2": f.e2.to_array(),
+        "normal": f.normal().to_array(),
+        "order": fit.order,
+        "a": fit.curve.a,
+        "b": fit.curve.b,
+        "ea": fit.errors.ea,
+        "em": fit.errors.em,
+        "met": fit.met,
+        "ellipse": fit.ellipse.map(|e| json!({ "ea": e.errors.ea, "em": e.errors.em })),
+        "points": l.points.len(),
+        "perimeter": l.perimeter,
+        "area": l.area,
+    })
+}

@@ -103,7 +103,7 @@ fn choose(levels: Vec<Vec<TrigCurve>>, select: Option<Vec3>, file: &str) -> Resu
             (1, _) => level.into_iter().next(),
             (_, None) => {
                 return Err(bad(format!(
-                    "{file}: section {i} has {} curves; choose the part with --select x,y,z",
+                    "{file}: level {i} has {} curves; choose the part with --select x,y,z",
                     level.len()
                 )))
             }

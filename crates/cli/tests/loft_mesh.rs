@@ -209,3 +209,59 @@ fn select_picks_one_loop_per_level() {
     );
     assert!(!text.contains("-0.1"), "the left tube is not");
 }
+
+/// The modelling path on a real body, when the shared data is beside the
+/// repository: `sections` → `loft --select` (the left leg) → `mesh`.
+#[test]
+fn sections_then_loft_then_mesh_on_a_real_body() {
+    let body =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/bodies/mh_male.obj");
+    if !body.is_file() {
+        eprintln!("note: {} not found; skipped", body.display());
+        return;
+    }
+    let d = dir("real");
+    let sections = d.join("s.json");
+    trigbody()
+        .args([
+            "sections",
+            body.to_str().unwrap(),
+            "--step",
+            "0.03",
+            "--from",
+            "0.1",
+            "--to",
+            "0.7",
+        ])
+        .args(["--reference", "0,0,1", "--json", sections.to_str().unwrap()])
+        .assert()
+        .success();
+    let part = d.join("leg_left.json");
+    let (code, err) = stderr_of(&[
+        "loft",
+        sections.to_str().unwrap(),
+        "-o",
+        part.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--select"), "{err}");
+    trigbody()
+        .args([
+            "loft",
+            sections.to_str().unwrap(),
+            "-o",
+            part.to_str().unwrap(),
+        ])
+        .args(["--select", "0.1,0.1,0", "--start-cap", "dome"])
+        .assert()
+        .success();
+    let glb = d.join("leg.glb");
+    trigbody()
+        .args(["mesh", part.to_str().unwrap(), "-o", glb.to_str().unwrap()])
+        .assert()
+        .success();
+    let bytes = std::fs::read(&glb).unwrap();
+    assert_eq!(&bytes[..4], b"glTF");
+    let text = std::fs::read_to_string(&part).unwrap();
+    assert!(text.contains("\"name\": \"leg_left\""));
+}

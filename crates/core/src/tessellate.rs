@@ -148,29 +148,32 @@ impl PatchSamples {
     /// Appends the row at `u` (positions and normals `sign · ∂v × ∂u`).
     /// Returns true when some normal is undefined (written as zero).
     fn row(&self, u: Real, sign: Real, positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>) -> bool {
-        let n = self.g.len() / self.terms;
-        let start = positions.len();
-        positions.resize(start + n, Vec3::ZERO);
-        normals.resize(start + n, Vec3::ZERO);
-        let (pos, nrm) = (&mut positions[start..], &mut normals[start..]);
         // Monomorphized for the common patch sizes (cubic patches have 4
         // terms), so the sums over m unroll.
         match self.terms {
-            2 => self.row_n::<2>(u, sign, pos, nrm),
-            3 => self.row_n::<3>(u, sign, pos, nrm),
-            4 => self.row_n::<4>(u, sign, pos, nrm),
-            5 => self.row_n::<5>(u, sign, pos, nrm),
-            6 => self.row_n::<6>(u, sign, pos, nrm),
-            _ => self.row_any(u, sign, pos, nrm),
+            2 => self.row_n::<2>(u, sign, positions, normals),
+            3 => self.row_n::<3>(u, sign, positions, normals),
+            4 => self.row_n::<4>(u, sign, positions, normals),
+            5 => self.row_n::<5>(u, sign, positions, normals),
+            6 => self.row_n::<6>(u, sign, positions, normals),
+            _ => {
+                let n = self.g.len() / self.terms;
+                let start = positions.len();
+                positions.resize(start + n, Vec3::ZERO);
+                normals.resize(start + n, Vec3::ZERO);
+                self.row_any(u, sign, &mut positions[start..], &mut normals[start..])
+            }
         }
     }
 
+    /// Positions and normals in two passes over the samples (each a
+    /// length-exact iterator, so `extend` writes without checks or zeroing).
     fn row_n<const N: usize>(
         &self,
         u: Real,
         sign: Real,
-        pos: &mut [Vec3],
-        nrm: &mut [Vec3],
+        positions: &mut Vec<Vec3>,
+        normals: &mut Vec<Vec3>,
     ) -> bool {
         let (mut pw, mut dpw) = ([0.0; N], [0.0; N]);
         let mut x = 1.0;
@@ -183,24 +186,34 @@ impl PatchSamples {
             };
             x *= u;
         }
-        let mut undefined = false;
-        let samples = self.g.chunks_exact(N).zip(self.gv.chunks_exact(N));
-        for ((g, gv), (p_out, n_out)) in samples.zip(pos.iter_mut().zip(nrm.iter_mut())) {
-            let (mut p, mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+        positions.extend(self.g.chunks_exact(N).map(|g| {
+            let mut p = Vec3::ZERO;
             for m in 0..N {
                 p += g[m] * pw[m];
-                du += g[m] * dpw[m];
-                dv += gv[m] * pw[m];
             }
-            *p_out = p;
-            let c = dv.cross(du);
-            let len2 = c.norm_squared();
-            if len2 > 0.0 && len2.is_finite() {
-                *n_out = c * (sign / len2.sqrt());
-            } else {
-                undefined = true;
-            }
-        }
+            p
+        }));
+        let mut undefined = false;
+        normals.extend(
+            self.g
+                .chunks_exact(N)
+                .zip(self.gv.chunks_exact(N))
+                .map(|(g, gv)| {
+                    let (mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO);
+                    for m in 0..N {
+                        du += g[m] * dpw[m];
+                        dv += gv[m] * pw[m];
+                    }
+                    let c = dv.cross(du);
+                    let len2 = c.norm_squared();
+                    if len2 > 0.0 && len2.is_finite() {
+                        c * (sign / len2.sqrt())
+                    } else {
+                        undefined = true;
+                        Vec3::ZERO
+                    }
+                }),
+        );
         undefined
     }
 

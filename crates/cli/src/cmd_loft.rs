@@ -37,8 +37,11 @@ pub struct LoftArgs {
     /// or `{"sections": [{"curves": [...]}, ...]}` with several loops per level
     /// (then --select picks one per level).
     pub sections: PathBuf,
-    /// A point x,y,z near the part: at each level the curve nearest to it
-    /// (first level) or to the previous pick is used.
+    /// A point x,y,z in the part: the curve whose centre is nearest to it,
+    /// and from there up and down the levels the curve nearest to the last
+    /// pick, until the branch ends (the centre jumps by more than the mean
+    /// radius or the area changes by more than a factor 2: a crotch, an
+    /// armpit).
     #[arg(long, value_parser = parse_vec3)]
     pub select: Option<Vec3>,
     /// The model file to write (one part).
@@ -93,32 +96,83 @@ fn centre(c: &TrigCurve) -> Point3 {
     Vec3::new(w.x.c[0], w.y.c[0], w.z.c[0])
 }
 
-/// One curve per level: the only one, or the one nearest to the selection.
+fn mean_radius(c: &TrigCurve) -> Real {
+    (c.area().abs() / std::f64::consts::PI).sqrt()
+}
+
+/// True when `next` continues the branch of `prev`: its centre moves by less
+/// than `prev`'s mean radius and its area is within a factor 2 (a merge or a
+/// split, such as the crotch, ends the branch).
+fn continues(prev: &TrigCurve, next: &TrigCurve) -> bool {
+    let ratio = next.area().abs() / prev.area().abs();
+    centre(next).distance(centre(prev)) < mean_radius(prev) && (0.5..=2.0).contains(&ratio)
+}
+
+/// One curve per level. Without a selection every level must hold exactly
+/// one curve. With one, the part is the branch through the curve whose
+/// centre is nearest to the point: from there up and down the levels, the
+/// curve nearest to the previous pick, as long as it continues the branch
+/// (see [`continues`]).
 fn choose(levels: Vec<Vec<TrigCurve>>, select: Option<Vec3>, file: &str) -> Result<Vec<TrigCurve>> {
-    let mut out = Vec::with_capacity(levels.len());
-    let mut near = select;
-    for (i, level) in levels.into_iter().enumerate() {
-        let pick = match (level.len(), near) {
-            (0, _) => continue,
-            (1, _) => level.into_iter().next(),
-            (_, None) => {
-                return Err(bad(format!(
-                    "{file}: level {i} has {} curves; choose the part with --select x,y,z",
-                    level.len()
-                )))
+    let Some(point) = select else {
+        return levels
+            .into_iter()
+            .enumerate()
+            .filter(|(_, l)| !l.is_empty())
+            .map(|(i, mut level)| match level.len() {
+                1 => Ok(level.remove(0)),
+                n => Err(bad(format!(
+                    "{file}: level {i} has {n} curves; choose the part with --select x,y,z"
+                ))),
+            })
+            .collect();
+    };
+    let seed = levels
+        .iter()
+        .enumerate()
+        .flat_map(|(i, l)| {
+            l.iter()
+                .enumerate()
+                .map(move |(k, c)| (i, k, centre(c).distance(point)))
+        })
+        .min_by(|a, b| a.2.total_cmp(&b.2))
+        .ok_or_else(|| bad(format!("{file}: no curves")))?;
+    let nearest = |level: &[TrigCurve], prev: &TrigCurve| -> Option<TrigCurve> {
+        level
+            .iter()
+            .min_by(|a, b| {
+                centre(a)
+                    .distance(centre(prev))
+                    .total_cmp(&centre(b).distance(centre(prev)))
+            })
+            .filter(|c| continues(prev, c))
+            .cloned()
+    };
+    let first = levels[seed.0][seed.1].clone();
+    let mut below = Vec::new();
+    let mut prev = first.clone();
+    for level in levels[..seed.0].iter().rev() {
+        match nearest(level, &prev) {
+            Some(c) => {
+                prev = c.clone();
+                below.push(c);
             }
-            (_, Some(p)) => level
-                .into_iter()
-                .min_by(|a, b| centre(a).distance(p).total_cmp(&centre(b).distance(p))),
-        };
-        if let Some(c) = pick {
-            if select.is_some() {
-                near = Some(centre(&c));
-            }
-            out.push(c);
+            None => break,
         }
     }
-    Ok(out)
+    below.reverse();
+    below.push(first.clone());
+    let mut prev = first;
+    for level in &levels[seed.0 + 1..] {
+        match nearest(level, &prev) {
+            Some(c) => {
+                prev = c.clone();
+                below.push(c);
+            }
+            None => break,
+        }
+    }
+    Ok(below)
 }
 
 pub fn run(args: LoftArgs) -> Result<()> {
@@ -162,8 +216,13 @@ pub fn run(args: LoftArgs) -> Result<()> {
     write_model(&mut bytes, &model)?;
     crate::cmd_mesh::write_new(&args.output, &bytes, args.force)?;
     let part = &model.parts[0].part;
+    let twist = part
+        .twist()
+        .iter()
+        .map(|t| t.abs().to_degrees())
+        .fold(0.0, Real::max);
     println!(
-        "{}: {count} curves, {} patches, length {:.4} {}, {} design parameters, skinning {}",
+        "{}: {count} curves, {} patches, length {:.4} {}, {} design parameters, skinning {}, largest twist correction {twist:.1}°",
         args.output.display(),
         part.segments().len(),
         part.length(),

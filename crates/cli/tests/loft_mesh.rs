@@ -265,3 +265,46 @@ fn sections_then_loft_then_mesh_on_a_real_body() {
     let text = std::fs::read_to_string(&part).unwrap();
     assert!(text.contains("\"name\": \"leg_left\""));
 }
+
+/// `--select` follows one branch and stops where branches merge: two legs
+/// below, one trunk above.
+#[test]
+fn select_stops_where_branches_merge() {
+    let d = dir("branches");
+    let levels: Vec<String> = (0..6)
+        .map(|k| {
+            let z = 0.03 * k as f64;
+            if k < 3 {
+                format!(
+                    "{{\"curves\": [{}, {}]}}",
+                    curve(-0.1, z, 0.05),
+                    curve(0.1, z, 0.05)
+                )
+            } else {
+                format!("{{\"curves\": [{}]}}", curve(0.0, z, 0.16))
+            }
+        })
+        .collect();
+    let input = d.join("levels.json");
+    std::fs::write(&input, format!("{{\"sections\": [{}]}}", levels.join(","))).unwrap();
+    for (select, count) in [("0.1,0,0.03", 3), ("0,0,0.12", 3)] {
+        let part = d.join("part.json");
+        let out = trigbody()
+            .args([
+                "loft",
+                input.to_str().unwrap(),
+                "-o",
+                part.to_str().unwrap(),
+                "--force",
+            ])
+            .arg(format!("--select={select}"))
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            text.contains(&format!(": {count} curves")),
+            "{select}: {text}"
+        );
+    }
+}

@@ -7,6 +7,7 @@
 mod cmd_fit;
 mod cmd_loft;
 mod cmd_mesh;
+mod cmd_render;
 mod cmd_scan;
 mod cmd_sections;
 mod examples;
@@ -38,6 +39,8 @@ enum Command {
     Sections(cmd_sections::SectionsArgs),
     /// Make a virtual multi-view scan (points with normals) of a mesh.
     Scan(cmd_scan::ScanArgs),
+    /// Draw a mesh shaded from several views side by side (PNG).
+    Render(cmd_render::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +59,7 @@ fn main() -> ExitCode {
         Command::Mesh(args) => cmd_mesh::run(args),
         Command::Sections(args) => cmd_sections::run(args),
         Command::Scan(args) => cmd_scan::run(args),
+        Command::Render(args) => cmd_render::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -177,9 +177,9 @@ pub enum IoError {
         #[source]
         source: std::io::Error,
     },
-    /// The bytes do not follow the format.
+    /// The bytes do not follow the format (boxed: it is the large variant).
     #[error(transparent)]
-    Format(#[from] FormatError),
+    Format(Box<FormatError>),
     /// The file was read but its geometry is unusable (e.g. a NaN coordinate);
     /// the message names the vertex.
     #[error("{}invalid geometry: {source}", .file.as_ref().map(|p| format!("{}: ", p.display())).unwrap_or_default())]
@@ -249,6 +249,12 @@ impl IoError {
             IoError::Format(e) => Some(e),
             _ => None,
         }
+    }
+}
+
+impl From<FormatError> for IoError {
+    fn from(e: FormatError) -> Self {
+        IoError::Format(Box::new(e))
     }
 }
 

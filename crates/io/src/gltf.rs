@@ -18,17 +18,25 @@ use trigbody_core::{Mesh, MeshError};
 /// Why a GLB could not be written.
 #[derive(Debug, Error)]
 pub enum GltfError {
+    /// The list of meshes was empty: give at least one.
     #[error("nothing to export: no meshes given")]
     Empty,
+    /// A mesh failed [`Mesh::validate`] (no triangles, NaN, bad indices…).
     #[error("mesh {index} ('{name}'): {source}")]
     Mesh {
+        /// Position of the mesh in the list.
         index: usize,
+        /// Its name.
         name: String,
+        /// What is wrong with it.
         #[source]
         source: MeshError,
     },
+    /// The binary chunk would exceed GLB's 32-bit length fields: export
+    /// fewer or coarser meshes.
     #[error("the binary buffer would be {0} bytes, more than GLB's 4 GiB limit")]
     TooLarge(u64),
+    /// The writer failed.
     #[error("writing the GLB: {0}")]
     Io(#[from] std::io::Error),
 }
@@ -45,7 +53,9 @@ const TRIANGLES: u32 = 4;
 /// A named mesh to export (one glTF mesh and node).
 #[derive(Clone, Copy, Debug)]
 pub struct NamedMesh<'a> {
+    /// The node's and the mesh's name in the file (e.g. the part's).
     pub name: &'a str,
+    /// The triangles, with normals when the mesh has them.
     pub mesh: &'a Mesh,
 }
 
@@ -165,12 +175,8 @@ pub fn glb_bytes(meshes: &[NamedMesh<'_>]) -> Result<Vec<u8>, GltfError> {
         "buffers": [{ "byteLength": bin.len() }],
     });
     let mut json_bytes = serde_json::to_vec(&doc).map_err(std::io::Error::from)?;
-    while !json_bytes.len().is_multiple_of(4) {
-        json_bytes.push(b' ');
-    }
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
+    json_bytes.resize(json_bytes.len().next_multiple_of(4), b' ');
+    bin.resize(bin.len().next_multiple_of(4), 0);
     let total = 12 + 8 + json_bytes.len() + 8 + bin.len();
     let total32 = u32::try_from(total).map_err(|_| GltfError::TooLarge(total as u64))?;
     let mut out = Vec::with_capacity(total);

@@ -13,6 +13,9 @@
 //!
 //! Every reader works against [`std::io::Read`], every writer against
 //! [`std::io::Write`]; the path functions pick the format by extension.
+//! Readers take the whole input into memory first and parse the bytes:
+//! that is fast, and it lets every count in a header be checked against
+//! the real length before anything is allocated.
 //! Reading applies [`ReadOptions`] (unit scale, up axis) and then the core's
 //! validation, so NaN or infinite coordinates are rejected with the vertex
 //! index. No input makes a reader panic: malformed files give an
@@ -32,9 +35,12 @@
 //! assert_eq!(mesh.positions[2].to_array(), [1.0, 1.0, 0.0]);
 //! ```
 
+#![warn(missing_docs)]
+
 mod error;
 pub mod fit_json;
 mod format;
+mod geometry;
 pub mod gltf;
 pub mod loop_text;
 pub mod model;
@@ -47,7 +53,8 @@ pub mod xyz;
 
 pub use error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 pub use format::Format;
-pub use options::{Geometry, ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
+pub use geometry::Geometry;
+pub use options::{ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
 
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Read, Write};

@@ -32,37 +32,64 @@ impl LoopPoints {
 /// What is wrong with a loop file; messages name the source and the line.
 #[derive(Debug, Error)]
 pub enum LoopTextError {
+    /// The source could not be read.
     #[error("{source_name}: cannot read: {error}")]
     Io {
+        /// The path, or `-` for standard input.
         source_name: String,
+        /// The underlying error.
         error: std::io::Error,
     },
+    /// The bytes are not UTF-8 text.
     #[error("{source_name}: the text is not valid UTF-8 (byte {offset})")]
-    NotUtf8 { source_name: String, offset: usize },
+    NotUtf8 {
+        /// The path, or `-`.
+        source_name: String,
+        /// Offset of the first invalid byte.
+        offset: usize,
+    },
+    /// A token that is not a number.
     #[error("{source_name}:{line}: '{token}' is not a number")]
     NotANumber {
+        /// The path, or `-`.
         source_name: String,
+        /// 1-based line number.
         line: usize,
+        /// The offending text.
         token: String,
     },
+    /// NaN or an infinity.
     #[error("{source_name}:{line}: '{token}' is not finite; remove or repair the point")]
     NotFinite {
+        /// The path, or `-`.
         source_name: String,
+        /// 1-based line number.
         line: usize,
+        /// The offending text.
         token: String,
     },
+    /// A line with other than 2 or 3 numbers.
     #[error("{source_name}:{line}: expected 2 (x y) or 3 (x y z) coordinates, found {found}")]
     BadCount {
+        /// The path, or `-`.
         source_name: String,
+        /// 1-based line number.
         line: usize,
+        /// How many numbers the line has.
         found: usize,
     },
+    /// 2D and 3D points mixed in one loop.
     #[error("{source_name}:{line}: {found} coordinates, but the first point (line {first_line}) has {expected}; use one form for the whole loop")]
     MixedDimensions {
+        /// The path, or `-`.
         source_name: String,
+        /// 1-based line number.
         line: usize,
+        /// Coordinates on this line.
         found: usize,
+        /// Coordinates on the first point's line.
         expected: usize,
+        /// The first point's line.
         first_line: usize,
     },
 }

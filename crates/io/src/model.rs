@@ -44,7 +44,9 @@ pub const MODEL_VERSION: u64 = 1;
 /// A named part of a model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelPart {
+    /// The part's name (kept in the model file and as the GLB node name).
     pub name: String,
+    /// The skinned part.
     pub part: Part,
 }
 
@@ -54,6 +56,7 @@ pub struct Model {
     /// The unit of every coordinate, e.g. `"m"` (informational; never
     /// converted).
     pub units: String,
+    /// The parts, in file order.
     pub parts: Vec<ModelPart>,
 }
 
@@ -61,34 +64,80 @@ pub struct Model {
 /// section, and the value).
 #[derive(Debug, Error)]
 pub enum ModelError {
+    /// Not JSON at all (the message has the line and column; NaN and
+    /// infinities are not JSON either).
     #[error("not valid JSON: {0}")]
     Json(#[source] serde_json::Error),
+    /// The document's `format` is not `trigbody-model`.
     #[error("not a trigbody model: \"format\" is {found}, expected \"{MODEL_FORMAT}\"")]
-    NotAModel { found: String },
+    NotAModel {
+        /// The `format` value found (or `missing`).
+        found: String,
+    },
+    /// A version this build cannot read.
     #[error("model version {found} is not supported (this build reads version {MODEL_VERSION})")]
-    UnknownVersion { found: String },
+    UnknownVersion {
+        /// The `version` value found (or `missing`).
+        found: String,
+    },
+    /// A field is missing or has the wrong type.
     #[error("{context}: {message}")]
-    Structure { context: String, message: String },
+    Structure {
+        /// Where: the part or section.
+        context: String,
+        /// What (serde's message, naming the field).
+        message: String,
+    },
+    /// A part with fewer than 2 sections.
     #[error("part '{part}': {count} section(s); a part needs at least 2")]
-    TooFewSections { part: String, count: usize },
+    TooFewSections {
+        /// The part's name.
+        part: String,
+        /// How many sections it has.
+        count: usize,
+    },
+    /// A section without its plane frame.
     #[error("part '{part}', section {section}: no \"frame\" (every section needs its plane: origin, e1, e2)")]
-    MissingFrame { part: String, section: usize },
+    MissingFrame {
+        /// The part's name.
+        part: String,
+        /// The section's index.
+        section: usize,
+    },
+    /// A coefficient or frame component that is null (NaN written by a
+    /// careless writer) or otherwise not a finite number.
     #[error("part '{part}', section {section}: {field}[{index}] is {value}, not a finite number")]
     NonFinite {
+        /// The part's name.
         part: String,
+        /// The section's index.
         section: usize,
+        /// `a`, `b`, `origin`, `e1` or `e2`.
         field: &'static str,
+        /// The index in that list.
         index: usize,
+        /// The value found.
         value: String,
     },
+    /// A skinning method this build does not know.
     #[error("part '{part}': unknown skinning method \"{method}\" (expected one of catmull-rom, natural-spline, paper-chained, paper-unchained)")]
-    UnknownSkinning { part: String, method: String },
+    UnknownSkinning {
+        /// The part's name.
+        part: String,
+        /// The method found.
+        method: String,
+    },
+    /// The sections do not make a part (crossing planes, mixed frames, bad
+    /// curves…; see [`PartError`]).
     #[error("part '{part}': {source}")]
     Part {
+        /// The part's name.
         part: String,
+        /// Why.
         #[source]
         source: PartError,
     },
+    /// Reading or writing failed.
     #[error("model I/O: {0}")]
     Io(#[from] std::io::Error),
 }

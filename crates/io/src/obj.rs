@@ -5,7 +5,8 @@
 //! Faces of any size are fan-triangulated (`a b c d` → `a b c`, `a c d`),
 //! which is exact for the convex polygons exporters write. Indices are
 //! 1-based; negative ones count back from the last vertex defined so far.
-//! Corner forms `v`, `v/vt`, `v//vn` and `v/vt/vn` are accepted.
+//! Corner forms `v`, `v/vt`, `v//vn` and `v/vt/vn` are accepted, and a
+//! data statement ending in `\` continues on the next line.
 //!
 //! Normals in OBJ belong to face corners, the core's to vertices: when every
 //! face corner names a normal, a vertex gets the normal its corners name (the
@@ -19,8 +20,10 @@
 
 use crate::error::{FormatError, FormatErrorKind, IoError, Location, Result};
 use crate::format::Format;
-use crate::options::{Geometry, ReadOptions};
+use crate::geometry::Geometry;
+use crate::options::ReadOptions;
 use crate::text::{excerpt, is_blank, parse_real, read_all, Lines};
+use std::borrow::Cow;
 use std::io::{BufWriter, Read, Write};
 use trigbody_core::{Mesh, PointCloud, Vec3};
 
@@ -97,6 +100,58 @@ fn parse_xyz<'a>(
     Ok(Vec3::from(v))
 }
 
+/// The data keywords whose statements are read.
+fn is_data_keyword(keyword: &[u8]) -> bool {
+    matches!(keyword, b"v" | b"vn" | b"vt" | b"f" | b"fo")
+}
+
+fn keyword_of(line: &[u8]) -> &[u8] {
+    let line = line.trim_ascii_start();
+    let end = line
+        .iter()
+        .position(|b| b.is_ascii_whitespace())
+        .unwrap_or(line.len());
+    &line[..end]
+}
+
+/// Lines with OBJ's continuation joined: a data statement whose line ends
+/// in `\` goes on in the next line. The number is that of the first line.
+/// (Only data statements: a comment ending in a backslash, like a Windows
+/// folder name, must not swallow the next line.)
+#[derive(Debug)]
+struct LogicalLines<'a> {
+    inner: Lines<'a>,
+}
+
+impl<'a> Iterator for LogicalLines<'a> {
+    type Item = (usize, Cow<'a, [u8]>);
+    fn next(&mut self) -> Option<Self::Item> {
+        let (first, raw) = self.inner.next()?;
+        if !(raw.trim_ascii_end().ends_with(b"\\") && is_data_keyword(keyword_of(raw))) {
+            return Some((first, Cow::Borrowed(raw)));
+        }
+        let mut joined = Vec::new();
+        let mut current = raw;
+        loop {
+            match current.trim_ascii_end().strip_suffix(b"\\") {
+                Some(body) => {
+                    joined.extend_from_slice(body);
+                    joined.push(b' ');
+                    match self.inner.next() {
+                        Some((_, next)) => current = next,
+                        None => break,
+                    }
+                }
+                None => {
+                    joined.extend_from_slice(current);
+                    break;
+                }
+            }
+        }
+        Some((first, Cow::Owned(joined)))
+    }
+}
+
 /// Reads an OBJ file held in memory.
 pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
     if is_blank(data) {
@@ -111,18 +166,17 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
     let mut all_corners_have_normals = true;
     let mut polygon: Vec<(u32, Option<u32>)> = Vec::new();
 
-    for (line, bytes) in Lines::new(data) {
+    for (line, logical) in (LogicalLines {
+        inner: Lines::new(data),
+    }) {
+        let bytes: &[u8] = &logical;
         let start = bytes
             .iter()
             .position(|b| !b.is_ascii_whitespace())
             .unwrap_or(bytes.len());
         let bytes = &bytes[start..];
-        let keyword_end = bytes
-            .iter()
-            .position(|b| b.is_ascii_whitespace())
-            .unwrap_or(bytes.len());
-        let keyword = &bytes[..keyword_end];
-        if !matches!(keyword, b"v" | b"vn" | b"vt" | b"f" | b"fo") {
+        let keyword = keyword_of(bytes);
+        if !is_data_keyword(keyword) {
             continue; // comments, names, materials, smoothing groups, ...
         }
         let text = std::str::from_utf8(bytes).map_err(|_| err(line, FormatErrorKind::NotUtf8))?;

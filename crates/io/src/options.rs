@@ -2,7 +2,7 @@
 
 use std::fmt;
 use std::str::FromStr;
-use trigbody_core::{Mesh, PointCloud, Real, Vec3};
+use trigbody_core::{Real, Vec3};
 
 /// Which axis of the file points up. Reading rotates the geometry (a proper
 /// rotation, so handedness and triangle winding are kept) so that this axis
@@ -146,79 +146,64 @@ pub struct WriteOptions {
     pub ply_precision: PlyPrecision,
 }
 
-/// What a file held: a triangle mesh, or points only.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Geometry {
-    /// Vertices and triangles (polygons are fan-triangulated on reading).
-    Mesh(Mesh),
-    /// Points without faces (a scan, a PLY with no faces, an XYZ file).
-    Points(PointCloud),
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-impl Geometry {
-    /// The positions, whatever the kind.
-    pub fn positions(&self) -> &[Vec3] {
-        match self {
-            Geometry::Mesh(m) => &m.positions,
-            Geometry::Points(p) => &p.positions,
+    const ALL: [UpAxis; 7] = [
+        UpAxis::Keep,
+        UpAxis::PlusX,
+        UpAxis::MinusX,
+        UpAxis::PlusY,
+        UpAxis::MinusY,
+        UpAxis::PlusZ,
+        UpAxis::MinusZ,
+    ];
+
+    fn axis(a: UpAxis) -> Vec3 {
+        match a {
+            UpAxis::Keep | UpAxis::PlusY => Vec3::Y,
+            UpAxis::MinusY => -Vec3::Y,
+            UpAxis::PlusX => Vec3::X,
+            UpAxis::MinusX => -Vec3::X,
+            UpAxis::PlusZ => Vec3::Z,
+            UpAxis::MinusZ => -Vec3::Z,
         }
     }
 
-    /// The normals, whatever the kind.
-    pub fn normals(&self) -> Option<&[Vec3]> {
-        match self {
-            Geometry::Mesh(m) => m.normals.as_deref(),
-            Geometry::Points(p) => p.normals.as_deref(),
+    #[test]
+    fn every_up_axis_becomes_plus_y_by_a_proper_rotation() {
+        for a in ALL {
+            assert_eq!(a.to_y_up(axis(a)), Vec3::Y, "{a}");
+            // Columns of the map: a rotation keeps the cross product (det +1).
+            let (x, y, z) = (a.to_y_up(Vec3::X), a.to_y_up(Vec3::Y), a.to_y_up(Vec3::Z));
+            assert_eq!(x.cross(y), z, "{a} is not a proper rotation");
+            assert_eq!(x.norm() * y.norm() * z.norm(), 1.0);
         }
     }
 
-    /// The triangles (empty for points).
-    pub fn triangles(&self) -> &[[u32; 3]] {
-        match self {
-            Geometry::Mesh(m) => &m.triangles,
-            Geometry::Points(_) => &[],
+    #[test]
+    fn up_axis_parses_what_it_displays() {
+        for a in ALL {
+            assert_eq!(a.to_string().parse::<UpAxis>(), Ok(a));
         }
+        assert_eq!("Z".parse::<UpAxis>(), Ok(UpAxis::PlusZ));
+        assert_eq!(" -y ".parse::<UpAxis>(), Ok(UpAxis::MinusY));
+        assert!("up".parse::<UpAxis>().is_err());
     }
 
-    /// The points, dropping faces of a mesh.
-    pub fn into_point_cloud(self) -> PointCloud {
-        match self {
-            Geometry::Mesh(m) => m.into(),
-            Geometry::Points(p) => p,
-        }
-    }
-
-    /// Builds a mesh when there are triangles, points otherwise.
-    /// Empty input is a [`FormatErrorKind::Empty`](crate::FormatErrorKind::Empty)
-    /// error of `format`; everything else is checked by the core's `validate`.
-    pub(crate) fn build(
-        format: crate::Format,
-        mut positions: Vec<Vec3>,
-        mut normals: Option<Vec<Vec3>>,
-        triangles: Vec<[u32; 3]>,
-        options: &ReadOptions,
-    ) -> crate::Result<Geometry> {
-        if positions.is_empty() {
-            return Err(crate::FormatError::new(
-                format,
-                crate::Location::File,
-                crate::FormatErrorKind::Empty,
-            )
-            .into());
-        }
-        options.apply(&mut positions, normals.as_mut());
-        if triangles.is_empty() {
-            let cloud = PointCloud { positions, normals };
-            cloud.validate()?;
-            Ok(Geometry::Points(cloud))
-        } else {
-            let mesh = Mesh {
-                positions,
-                normals,
-                triangles,
-            };
-            mesh.validate()?;
-            Ok(Geometry::Mesh(mesh))
-        }
+    #[test]
+    fn options_scale_positions_and_rotate_normals() {
+        let o = ReadOptions {
+            scale: 0.001,
+            up_axis: UpAxis::PlusZ,
+        };
+        let mut p = vec![Vec3::new(1000.0, 2000.0, 3000.0)];
+        let mut n = vec![Vec3::Z];
+        o.apply(&mut p, Some(&mut n));
+        assert_eq!(p[0], Vec3::new(1.0, 3.0, -2.0));
+        assert_eq!(n[0], Vec3::Y);
+        assert_eq!(ReadOptions::default().scale, 1.0);
+        assert_eq!(ReadOptions::default().up_axis, UpAxis::Keep);
     }
 }

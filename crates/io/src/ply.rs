@@ -16,7 +16,8 @@
 
 use crate::error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 use crate::format::Format;
-use crate::options::{Geometry, PlyPrecision, ReadOptions, WriteOptions};
+use crate::geometry::Geometry;
+use crate::options::{PlyPrecision, ReadOptions, WriteOptions};
 use crate::text::{excerpt, read_all, Lines};
 use std::io::{BufWriter, Read, Write};
 use trigbody_core::{Mesh, PointCloud, Vec3};
@@ -342,8 +343,27 @@ fn assign_slots(elements: &mut [Element]) -> Result<bool> {
                     )
                 });
                 // Any single integer list is taken as the indices.
-                if let Some(i) = named.or((lists.len() == 1).then(|| lists[0])) {
-                    element.properties[i].slot = Slot::FaceIndices;
+                match named.or((lists.len() == 1).then(|| lists[0])) {
+                    Some(i) => element.properties[i].slot = Slot::FaceIndices,
+                    None if element.count > 0 => {
+                        return Err(FormatError::new(
+                            Format::Ply,
+                            Location::File,
+                            FormatErrorKind::BadHeader {
+                                message: format!(
+                                    "the face element has no integer list `vertex_indices` (its properties: {})",
+                                    element
+                                        .properties
+                                        .iter()
+                                        .map(|p| p.name.as_str())
+                                        .collect::<Vec<_>>()
+                                        .join(", ")
+                                ),
+                            },
+                        )
+                        .into())
+                    }
+                    None => {}
                 }
             }
             Role::Other => {}
@@ -357,6 +377,8 @@ fn assign_slots(elements: &mut [Element]) -> Result<bool> {
 struct Sink {
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
+    /// Whether the vertex element has `nx ny nz`.
+    with_normals: bool,
     triangles: Vec<[u32; 3]>,
     vertex_count: u64,
     polygon: Vec<u32>,
@@ -406,6 +428,7 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
             .iter()
             .find(|e| e.role == Role::Vertex)
             .map_or(0, |e| e.count),
+        with_normals,
         ..Sink::default()
     };
     let body = data.get(header.body..).unwrap_or(&[]);
@@ -414,7 +437,7 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
         Encoding::LittleEndian => read_binary::<false>(&header, data, &mut sink)?,
         Encoding::BigEndian => read_binary::<true>(&header, data, &mut sink)?,
     }
-    let normals = with_normals.then_some(sink.normals);
+    let normals = sink.with_normals.then_some(sink.normals);
     Geometry::build(
         Format::Ply,
         sink.positions,
@@ -521,11 +544,18 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
     };
     for element in &header.elements {
         let min = min_size(element);
+        if min == 0 {
+            continue; // nothing stored per instance, however many
+        }
         let available = (data.len() - cur.pos.min(data.len())) as u64;
+        let all_scalar = element
+            .properties
+            .iter()
+            .all(|p| matches!(p.kind, Kind::Scalar(_)));
         let needed = element.count.saturating_mul(min);
-        if needed > available {
-            // Locate the first instance that cannot be complete.
-            let index = available.checked_div(min).unwrap_or(0);
+        if all_scalar && needed > available {
+            // Fixed size: the first instance that cannot be complete is known.
+            let index = available / min;
             return Err(FormatError::new(
                 Format::Ply,
                 Location::Element {
@@ -542,28 +572,30 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
             )
             .into());
         }
-        if min == 0 {
-            continue; // nothing stored per instance
-        }
-        // Bounded by the check above: count ≤ available bytes.
-        let count = element.count as usize;
+        // Never reserve more than the bytes left could hold; an element with
+        // lists that claims more runs out of input at a known instance below
+        // (every instance takes at least `min` ≥ 1 bytes, so that is soon).
+        let cap = usize::try_from(element.count.min(available / min)).unwrap_or(0);
         match element.role {
             Role::Vertex => {
-                sink.positions.reserve_exact(count);
-                if sink.normals.capacity() == 0 {
-                    sink.normals.reserve_exact(count);
+                sink.positions.reserve_exact(cap);
+                if sink.with_normals {
+                    sink.normals.reserve_exact(cap);
                 }
             }
-            Role::Face => sink.triangles.reserve(count),
+            Role::Face => sink.triangles.reserve(cap),
             Role::Other => {}
         }
-        // Fast skip of elements that are all scalars and unused.
-        let all_scalar = element
-            .properties
-            .iter()
-            .all(|p| matches!(p.kind, Kind::Scalar(_)));
         if element.role == Role::Other && all_scalar {
-            cur.pos += count * min as usize;
+            // Unused and fixed size: skip in one step (checked above).
+            cur.pos += cap * min as usize;
+            continue;
+        }
+        if element.role == Role::Vertex && all_scalar {
+            // Fixed-size records, all present (checked above): the fast path.
+            let bytes = &data[cur.pos..cur.pos + cap * min as usize];
+            read_vertex_records::<BIG>(element, bytes, min as usize, sink);
+            cur.pos += bytes.len();
             continue;
         }
         for index in 0..element.count {
@@ -636,11 +668,78 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
             }
             if element.role == Role::Vertex {
                 sink.positions.push(Vec3::from(p3));
-                sink.normals.push(Vec3::from(n3));
+                if sink.with_normals {
+                    sink.normals.push(Vec3::from(n3));
+                }
             }
         }
     }
     Ok(())
+}
+
+/// Reads one scalar at `offset` of a record known to be long enough.
+#[inline(always)]
+fn scalar_at<const BIG: bool>(record: &[u8], offset: usize, s: Scalar) -> f64 {
+    macro_rules! num {
+        ($t:ty, $n:literal) => {{
+            let mut b = [0u8; $n];
+            b.copy_from_slice(&record[offset..offset + $n]);
+            if BIG {
+                <$t>::from_be_bytes(b)
+            } else {
+                <$t>::from_le_bytes(b)
+            }
+        }};
+    }
+    match s {
+        Scalar::I8 => f64::from(num!(i8, 1)),
+        Scalar::U8 => f64::from(num!(u8, 1)),
+        Scalar::I16 => f64::from(num!(i16, 2)),
+        Scalar::U16 => f64::from(num!(u16, 2)),
+        Scalar::I32 => f64::from(num!(i32, 4)),
+        Scalar::U32 => f64::from(num!(u32, 4)),
+        Scalar::F32 => f64::from(num!(f32, 4)),
+        Scalar::F64 => num!(f64, 8),
+    }
+}
+
+/// The vertex element when every property is a scalar: `bytes` holds whole
+/// records of `stride` bytes, so the offsets of x y z (nx ny nz) are fixed.
+fn read_vertex_records<const BIG: bool>(
+    element: &Element,
+    bytes: &[u8],
+    stride: usize,
+    sink: &mut Sink,
+) {
+    let mut coords = [(0usize, Scalar::F32); 3];
+    let mut normals = [(0usize, Scalar::F32); 3];
+    let mut offset = 0;
+    for p in &element.properties {
+        if let Kind::Scalar(s) = p.kind {
+            match p.slot {
+                Slot::Coord(k) => coords[k] = (offset, s),
+                Slot::Normal(k) => normals[k] = (offset, s),
+                _ => {}
+            }
+            offset += s.size();
+        }
+    }
+    let read3 = |r: &[u8], f: &[(usize, Scalar); 3]| {
+        Vec3::new(
+            scalar_at::<BIG>(r, f[0].0, f[0].1),
+            scalar_at::<BIG>(r, f[1].0, f[1].1),
+            scalar_at::<BIG>(r, f[2].0, f[2].1),
+        )
+    };
+    let records = bytes.chunks_exact(stride);
+    if sink.with_normals {
+        for r in records {
+            sink.positions.push(read3(r, &coords));
+            sink.normals.push(read3(r, &normals));
+        }
+    } else {
+        sink.positions.extend(records.map(|r| read3(r, &coords)));
+    }
 }
 
 /// Whitespace-separated tokens of an ASCII body with their line numbers.
@@ -690,6 +789,9 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
         line: header.lines + 1,
     };
     for element in &header.elements {
+        if element.properties.is_empty() {
+            continue; // nothing stored, however many are declared
+        }
         // Each value takes at least two bytes (a digit and a separator).
         let cap = usize::try_from(element.count)
             .unwrap_or(usize::MAX)
@@ -697,7 +799,9 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
         match element.role {
             Role::Vertex => {
                 sink.positions.reserve_exact(cap);
-                sink.normals.reserve_exact(cap);
+                if sink.with_normals {
+                    sink.normals.reserve_exact(cap);
+                }
             }
             Role::Face => sink.triangles.reserve(cap),
             Role::Other => {}
@@ -752,10 +856,12 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
                 match (p.kind, p.slot) {
                     (Kind::Scalar(_), Slot::Coord(k)) => p3[k] = value(what, false)?.0,
                     (Kind::Scalar(_), Slot::Normal(k)) => n3[k] = value(what, false)?.0,
-                    (Kind::Scalar(s), _) => {
-                        value(what, s.is_integer())?;
+                    (Kind::Scalar(_), _) => {
+                        // Unused: any number will do (some writers put
+                        // `255.0` in a uchar column).
+                        value(what, false)?;
                     }
-                    (Kind::List { item, .. }, slot) => {
+                    (Kind::List { .. }, slot) => {
                         let (n, line) = value(what, true)?;
                         if n < 0.0 {
                             return Err(at(
@@ -770,7 +876,7 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
                         }
                         // Bounded by the input: each item needs a token.
                         for _ in 0..n as u64 {
-                            let (v, line) = value(what, item.is_integer())?;
+                            let (v, line) = value(what, slot == Slot::FaceIndices)?;
                             if slot == Slot::FaceIndices {
                                 let v = sink.index(v as i64).map_err(|k| at(k, line))?;
                                 sink.polygon.push(v);
@@ -784,7 +890,9 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
             }
             if element.role == Role::Vertex {
                 sink.positions.push(Vec3::from(p3));
-                sink.normals.push(Vec3::from(n3));
+                if sink.with_normals {
+                    sink.normals.push(Vec3::from(n3));
+                }
             }
         }
     }

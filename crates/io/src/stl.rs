@@ -7,14 +7,17 @@
 //! triangle count n at byte 80, and many binary files begin with "solid" in
 //! their header, so the size decides first. Otherwise a file that begins
 //! with `solid` and whose next line starts with `facet` or `endsolid` is
-//! ASCII, and anything else is binary.
+//! ASCII, and anything else is binary. A binary count of 0 followed by
+//! whole 50-byte records (a streaming writer that never went back to fill
+//! in the count) is read as those records.
 //!
 //! Hand-written: both forms are a few lines of parsing, and `stl_io` reads
 //! into f32 and says nothing about where a file went wrong.
 
 use crate::error::{FormatError, FormatErrorKind, IoError, Location, Result};
 use crate::format::Format;
-use crate::options::{Geometry, ReadOptions};
+use crate::geometry::Geometry;
+use crate::options::ReadOptions;
 use crate::text::{excerpt, is_blank, parse_real, read_all, Lines};
 use std::collections::HashMap;
 use std::io::{BufWriter, Read, Write};
@@ -105,6 +108,13 @@ fn read_binary(data: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
         .into());
     };
     let body = &data[HEADER + 4..];
+    // Some streaming exporters write 0 and never come back to fix the count:
+    // then the whole triangle records that follow are the triangles.
+    let count = if count == 0 && !body.is_empty() && body.len() % TRIANGLE == 0 {
+        u32::try_from(body.len() / TRIANGLE).unwrap_or(u32::MAX)
+    } else {
+        count
+    };
     let needed = u64::from(count) * TRIANGLE as u64;
     if needed > body.len() as u64 {
         return Err(FormatError::new(

@@ -4,12 +4,15 @@
 //! column names (any line whose first field is not a number); then the
 //! columns named `x y z` (and `nx ny nz`, also spelled `normal_x` …) are
 //! used wherever they are. Without a header, the first three columns are
-//! the position and, when a line has six or more, columns 4–6 the normal;
-//! lines of four or five columns (intensity, …) give positions only.
+//! the position and, when a line has six or more, columns 4–6 the normal
+//! (unless, on the first line, they look like an 8-bit colour: integers in
+//! 0..=255, not all 0 or 1); lines of four or five columns (intensity, …)
+//! give positions only. The first data line decides for the whole file.
 
 use crate::error::{FormatError, FormatErrorKind, IoError, Location, Result};
 use crate::format::Format;
-use crate::options::{Geometry, ReadOptions};
+use crate::geometry::Geometry;
+use crate::options::ReadOptions;
 use crate::text::{excerpt, is_blank, parse_real, read_all, Lines};
 use std::io::{BufWriter, Read, Write};
 use trigbody_core::{PointCloud, Vec3};
@@ -70,6 +73,15 @@ fn columns_from_header(text: &str, line: usize) -> Result<Columns> {
     })
 }
 
+/// Whether three values look like an 8-bit RGB colour (`x y z r g b`
+/// files are common) rather than a normal: integers in 0..=255, not all
+/// of them 0 or 1.
+fn looks_like_colour(v: &[f64]) -> bool {
+    v.iter()
+        .all(|c| c.fract() == 0.0 && (0.0..=255.0).contains(c))
+        && v.iter().any(|&c| c > 1.0)
+}
+
 /// Reads a point list from `reader`.
 pub fn read<R: Read>(reader: R, options: &ReadOptions) -> Result<Geometry> {
     read_bytes(&read_all(reader)?, options)
@@ -126,7 +138,8 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
                 // Decided by the first data line, kept for the rest.
                 let c = Columns {
                     position: [0, 1, 2],
-                    normal: (values.len() >= 6).then_some([3, 4, 5]),
+                    normal: (values.len() >= 6 && !looks_like_colour(&values[3..6]))
+                        .then_some([3, 4, 5]),
                 };
                 columns = Some(c);
                 c

@@ -95,10 +95,16 @@ fn header_count_larger_than_data_does_not_allocate_it() {
     d.extend_from_slice(&[0; 36]);
     d.extend_from_slice(&u32::MAX.to_le_bytes());
     let e = read(&d, Format::Ply);
-    assert!(matches!(
-        kind_at(&e).0,
-        FormatErrorKind::CountTooLarge { .. }
-    ));
+    let (kind, loc) = kind_at(&e);
+    // The list claims 2^32 − 1 indices: the input ends inside face 0.
+    assert!(
+        matches!(kind, FormatErrorKind::UnexpectedEof { .. }),
+        "{kind:?}"
+    );
+    assert!(
+        matches!(loc, Location::Element { element, index: 0, .. } if element == "face"),
+        "{loc:?}"
+    );
 }
 
 #[test]
@@ -417,4 +423,14 @@ fn error_messages_read_well() {
         "OBJ file, line 4: vertex index 0 is out of range: 3 defined (OBJ indices start at 1; negative ones count back from the last)"
     );
     let _ = ply::read(&b""[..], &ReadOptions::default()).unwrap_err();
+}
+
+#[test]
+fn ply_faces_without_an_index_list_are_an_error_not_points() {
+    let d = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar float weights\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0.5 0.5 0.5\n";
+    let e = read(d, Format::Ply);
+    assert!(
+        matches!(kind_at(&e).0, FormatErrorKind::BadHeader { message } if message.contains("weights")),
+        "{e}"
+    );
 }

@@ -134,3 +134,62 @@ fn extension_is_case_insensitive() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn xyz_rgb_columns_are_not_taken_for_normals() {
+    let g = trigbody_io::read_bytes(
+        b"0.1 0.2 0.3 255 128 0\n0.4 0.5 0.6 10 20 30\n",
+        trigbody_io::Format::Xyz,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(g.positions().len(), 2);
+    assert!(g.normals().is_none());
+    let g = trigbody_io::read_bytes(
+        b"0.1 0.2 0.3 0 0 1\n",
+        trigbody_io::Format::Xyz,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(g.normals(), Some(&[Vec3::Z][..]));
+}
+
+#[test]
+fn obj_continuation_lines_and_backslash_in_comments() {
+    let text = "# saved to C:\\models\\\nv 0 0 0\nv 1 0 \\\n 0\nv 0 1 0\nf 1 \\\n2 3\n";
+    let g = trigbody_io::read_bytes(
+        text.as_bytes(),
+        trigbody_io::Format::Obj,
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(g.positions().len(), 3);
+    assert_eq!(g.positions()[1], Vec3::new(1.0, 0.0, 0.0));
+    assert_eq!(g.triangles(), &[[0, 1, 2]]);
+}
+
+#[test]
+fn binary_stl_with_a_zero_count_from_a_streaming_writer() {
+    let mut d = vec![b' '; 80];
+    d.extend_from_slice(&0u32.to_le_bytes());
+    for t in [
+        [0f32, 0., 0., 1., 0., 0., 0., 1., 0.],
+        [0., 0., 0., 0., 1., 0., 0., 0., 1.],
+    ] {
+        d.extend_from_slice(&[0; 12]);
+        for c in t {
+            d.extend_from_slice(&c.to_le_bytes());
+        }
+        d.extend_from_slice(&[0; 2]);
+    }
+    let g = trigbody_io::read_bytes(&d, trigbody_io::Format::Stl, &ReadOptions::default()).unwrap();
+    assert_eq!(g.triangles().len(), 2);
+    assert_eq!(g.positions().len(), 4);
+}
+
+#[test]
+fn ascii_ply_unused_integer_columns_may_hold_decimals() {
+    let d = b"ply\nformat ascii 1.0\nelement vertex 1\nproperty int x\nproperty int y\nproperty int z\nproperty uchar red\nproperty list uchar int tex\nend_header\n1 2 3 255.0 2 0.5 1.5\n";
+    let g = trigbody_io::read_bytes(d, trigbody_io::Format::Ply, &ReadOptions::default()).unwrap();
+    assert_eq!(g.positions(), &[Vec3::new(1.0, 2.0, 3.0)]);
+}

@@ -322,7 +322,7 @@ fn measure(variants: &[(String, PartOptions)]) -> String {
                 r.orders
             );
             for (variant, options) in variants {
-                let (rms, max) = compare(r, &options);
+                let (rms, max) = compare(r, options);
                 table += &format!(
                     "  {variant:22} RMS {:.3} mm  max {:.2} mm\n",
                     rms * 1e3,

@@ -85,7 +85,7 @@ pub enum PlotError {
 const FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
 static FONT_ONCE: Once = Once::new();
 
-fn register_font() {
+pub(crate) fn register_font() {
     FONT_ONCE.call_once(|| {
         // The font is compiled in; a failure here is a build defect.
         let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);

@@ -1,0 +1,151 @@
+//! End-to-end tests of `trigbody render`: the real binary on generated
+//! mesh files.
+
+use assert_cmd::Command;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+fn trigbody() -> Command {
+    Command::cargo_bin("trigbody").unwrap()
+}
+
+/// A fresh scratch directory for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A closed cylinder (radius 0.2, height 1, z up when `z_up`) as OBJ text
+/// with quads on the side and fans on the caps.
+fn cylinder_obj(z_up: bool) -> String {
+    let n = 48;
+    let mut text = String::from("# generated cylinder\n");
+    for y in [0.0, 1.0] {
+        for i in 0..n {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            let (x, z) = (0.2 * a.cos(), 0.2 * a.sin());
+            if z_up {
+                writeln!(text, "v {x} {} {y}", -z).unwrap();
+            } else {
+                writeln!(text, "v {x} {y} {z}").unwrap();
+            }
+        }
+    }
+    for i in 0..n {
+        let j = (i + 1) % n;
+        // 1-based: bottom ring 1..=n, top ring n+1..=2n.
+        writeln!(text, "f {} {} {} {}", i + 1, n + i + 1, n + j + 1, j + 1).unwrap();
+    }
+    let top: Vec<String> = (0..n).rev().map(|i| (n + i + 1).to_string()).collect();
+    let bottom: Vec<String> = (0..n).map(|i| (i + 1).to_string()).collect();
+    writeln!(text, "f {}", top.join(" ")).unwrap();
+    writeln!(text, "f {}", bottom.join(" ")).unwrap();
+    text
+}
+
+/// Width and height from a PNG's IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    (be(&bytes[16..20]), be(&bytes[20..24]))
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn renders_a_mesh_file_to_png() {
+    let dir = scratch("render_ok");
+    let mesh = write(&dir, "cylinder.obj", &cylinder_obj(false));
+    let out = dir.join("pictures/cylinder.png");
+    let output = trigbody()
+        .args([
+            "render",
+            mesh.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--size", "96", "--views", "front,side,back,30"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let stdout = String::from_utf8_lossy(&output);
+    assert!(stdout.contains("4 view(s), 384×96 pixels"), "{stdout}");
+    let bytes = std::fs::read(&out).unwrap();
+    assert_eq!(png_size(&bytes), (384, 96));
+}
+
+#[test]
+fn up_axis_flag_turns_a_z_up_file_upright() {
+    // The same cylinder written z-up, read with `--up-axis z`, gives the
+    // same picture as the y-up file.
+    let dir = scratch("render_up");
+    let render = |file: &str, text: &str, extra: &[&str]| {
+        let mesh = write(&dir, file, text);
+        let out = dir.join(format!("{file}.png"));
+        trigbody()
+            .args([
+                "render",
+                mesh.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(["--size", "64", "--views", "front,side"])
+            .args(extra)
+            .assert()
+            .success();
+        std::fs::read(&out).unwrap()
+    };
+    let y_up = render("y.obj", &cylinder_obj(false), &[]);
+    let z_up = render("z.obj", &cylinder_obj(true), &["--up-axis", "z"]);
+    let z_unturned = render("z_keep.obj", &cylinder_obj(true), &[]);
+    assert_eq!(png_size(&y_up), (128, 64));
+    assert_eq!(y_up, z_up);
+    assert_ne!(y_up, z_unturned);
+}
+
+/// Stderr must name `what`, and the exit code must be 2.
+fn fails_with_bad_input(args: &[&str], what: &str) {
+    let output = trigbody().args(args).output().unwrap();
+    assert_eq!(output.status.code(), Some(2), "{args:?}");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains(what), "{args:?}: {stderr}");
+}
+
+#[test]
+fn bad_input_exits_2_naming_the_file_or_value() {
+    let dir = scratch("render_bad");
+    let mesh = write(&dir, "cylinder.obj", &cylinder_obj(false));
+    let mesh = mesh.to_str().unwrap();
+    let out = dir.join("out.png");
+    let out = out.to_str().unwrap();
+    let missing = dir.join("missing.obj");
+    fails_with_bad_input(
+        &["render", missing.to_str().unwrap(), "-o", out],
+        "missing.obj",
+    );
+    let nan = write(&dir, "nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+    fails_with_bad_input(&["render", nan.to_str().unwrap(), "-o", out], "nan.obj");
+    let points = write(&dir, "points.xyz", "0 0 0\n1 0 0\n0 1 0\n");
+    fails_with_bad_input(
+        &["render", points.to_str().unwrap(), "-o", out],
+        "points.xyz",
+    );
+    let model = write(&dir, "model.json", "{}");
+    fails_with_bad_input(
+        &["render", model.to_str().unwrap(), "-o", out],
+        "model.json",
+    );
+    fails_with_bad_input(&["render", mesh, "-o", out, "--views", "top"], "top");
+    fails_with_bad_input(&["render", mesh, "-o", out, "--size", "0"], "0×0");
+    fails_with_bad_input(&["render", mesh, "-o", out, "--supersample", "9"], "9");
+    fails_with_bad_input(&["render", mesh, "-o", "picture.jpg"], "picture.jpg");
+    assert!(!Path::new(out).exists());
+}

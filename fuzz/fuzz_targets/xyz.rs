@@ -1,0 +1,9 @@
+#![no_main]
+//! Any bytes given to the Xyz reader give Ok or Err, never a panic.
+
+use libfuzzer_sys::fuzz_target;
+use trigbody_io::{read_bytes, Format, ReadOptions};
+
+fuzz_target!(|data: &[u8]| {
+    let _ = read_bytes(data, Format::Xyz, &ReadOptions::default());
+});

@@ -222,18 +222,12 @@ fn sections_then_loft_then_mesh_on_a_real_body() {
     }
     let d = dir("real");
     let sections = d.join("s.json");
+    // The body stands on y = -0.82 (metres, +y up): its legs end at the
+    // crotch near y = -0.05.
     trigbody()
-        .args([
-            "sections",
-            body.to_str().unwrap(),
-            "--step",
-            "0.03",
-            "--from",
-            "0.1",
-            "--to",
-            "0.7",
-        ])
-        .args(["--reference", "0,0,1", "--json", sections.to_str().unwrap()])
+        .args(["sections", body.to_str().unwrap(), "--step", "0.03"])
+        .args(["--from=-0.76", "--to=-0.05", "--reference", "0,0,1"])
+        .args(["--json", sections.to_str().unwrap()])
         .assert()
         .success();
     let part = d.join("leg_left.json");
@@ -245,16 +239,26 @@ fn sections_then_loft_then_mesh_on_a_real_body() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("--select"), "{err}");
-    trigbody()
+    let out = trigbody()
         .args([
             "loft",
             sections.to_str().unwrap(),
             "-o",
             part.to_str().unwrap(),
         ])
-        .args(["--select", "0.1,0.1,0", "--start-cap", "dome"])
-        .assert()
-        .success();
+        .args(["--select=0.1,-0.4,0", "--start-cap", "dome"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    // The left leg only, from the ankle to the crotch: about 23 curves.
+    let text = String::from_utf8_lossy(&out.stdout);
+    let count: usize = text
+        .split(": ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    assert!((18..=24).contains(&count), "{text}");
     let glb = d.join("leg.glb");
     trigbody()
         .args(["mesh", part.to_str().unwrap(), "-o", glb.to_str().unwrap()])

@@ -65,7 +65,7 @@ fn parse_order(s: &str) -> Result<OrderChoice, String> {
     }
 }
 
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
+pub fn parse_vec3(s: &str) -> Result<Vec3, String> {
     let v: Vec<Real> = s
         .split(',')
         .map(|t| t.trim().parse::<Real>())
@@ -328,6 +328,7 @@ pub fn fit_panel(name: &str, points: &LoopPoints, fit: &LoopFit) -> Panel {
         title: name.to_string(),
         points: shift(fit.plane_points.clone()),
         points_label: format!("input ({} points)", fit.plane_points.len()),
+        faint_points: false,
         curves,
     }
 }

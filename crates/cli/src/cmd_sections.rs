@@ -1,7 +1,7 @@
 //! `trigbody sections INPUT`: cut a mesh (plane sections) or a scan (slab
 //! sections) with parallel planes and fit every loop.
 
-use crate::cmd_fit::FitFlags;
+use crate::cmd_fit::{image_format, parse_vec3, write_output, FitFlags};
 use crate::exit::{bad, print};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
@@ -10,8 +10,10 @@ use std::path::PathBuf;
 use trigbody_core::fit::fit_loop;
 use trigbody_core::scan_section::{scan_fit_options, CloudSlicer, ScanSectionOptions};
 use trigbody_core::section::{MeshSlicer, SectionOptions};
-use trigbody_core::{FitOptions, LoopFit, Point3, Real, Vec3};
+use trigbody_core::{FitOptions, LoopFit, Point3, Real, Vec2, Vec3};
+use trigbody_io::fit_json::loop_fit_json;
 use trigbody_io::{read_geometry, Geometry, ReadOptions};
+use trigbody_render::{plot_panels, Curve2, Panel, PlotOptions};
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum AxisFlag {
@@ -64,19 +66,17 @@ pub struct SectionsArgs {
     /// Write every level and loop (frame, coefficients, errors) as JSON.
     #[arg(long, value_name = "FILE")]
     pub json: Option<PathBuf>,
+    /// Draw all loops over the input's outline, and the points with the trig
+    /// and ellipse fits of --plot-levels levels, to FILE.svg or FILE.png.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// How many levels (spread evenly over those with loops) --plot draws in detail.
+    #[arg(long, default_value_t = 8)]
+    pub plot_levels: usize,
 }
 
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
-    let v: Vec<Real> = s
-        .split(',')
-        .map(|t| t.trim().parse::<Real>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("'{s}' is not three numbers x,y,z"))?;
-    match v[..] {
-        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
-        _ => Err(format!("'{s}' is not three finite numbers x,y,z")),
-    }
-}
+/// A level's offset and its loops' points with their fits (for the plot).
+type FittedLevel = (Real, Vec<(Vec<Point3>, LoopFit)>);
 
 /// One loop of one level: its ordered points and where they came from.
 struct CutLoop {
@@ -171,7 +171,12 @@ pub fn run(args: SectionsArgs) -> Result<()> {
         "  {:>10} {:>4} {:>6} {:>10} {:>10} {:>5} {:>9} {:>9} {:>9} {:>9}\n",
         "offset", "loop", "points", "perimeter", "area", "J", "E_a", "E_M", "ell. E_a", "ell. E_M"
     );
+    let plot_format = match &args.plot {
+        Some(p) => Some(image_format(p)?),
+        None => None,
+    };
     let mut levels = Vec::new();
+    let mut fitted: Vec<FittedLevel> = Vec::new();
     for &offset in &offsets {
         let loops: Vec<CutLoop> = if let Some(s) = &mesh_slicer {
             match s.section_at(offset) {
@@ -241,6 +246,12 @@ pub fn run(args: SectionsArgs) -> Result<()> {
                         l.note
                     );
                     json_loops.push(loop_json(l, &fit));
+                    if plot_format.is_some() {
+                        match fitted.last_mut() {
+                            Some((o, v)) if *o == offset => v.push((l.points.clone(), fit)),
+                            _ => fitted.push((offset, vec![(l.points.clone(), fit)])),
+                        }
+                    }
                 }
                 Err(e) => {
                     eprintln!("trigbody: warning: {name}: loop {i} at offset {offset}: {e}");
@@ -259,8 +270,18 @@ pub fn run(args: SectionsArgs) -> Result<()> {
             "levels": levels,
         });
         let text = serde_json::to_string_pretty(&doc).context("encoding JSON")? + "\n";
-        crate::cmd_fit::write_output(path, text.as_bytes(), Some(&args.input))?;
+        write_output(path, text.as_bytes(), Some(&args.input))?;
         table += &format!("JSON written to {}\n", path.display());
+    }
+    if let (Some(path), Some(format)) = (&args.plot, plot_format) {
+        let outline = match &geometry {
+            Geometry::Mesh(m) => &m.positions,
+            Geometry::Points(p) => &p.positions,
+        };
+        let panels = section_panels(&name, outline, axis, &fitted, args.plot_levels);
+        let bytes = plot_panels(&panels, format, &PlotOptions::default())?;
+        write_output(path, &bytes, Some(&args.input))?;
+        table += &format!("plot written to {}\n", path.display());
     }
     print(&table)
 }
@@ -269,24 +290,117 @@ fn pct(x: Real) -> String {
     format!("{:.3}%", 100.0 * x)
 }
 
-/// One loop in the JSON file: frame, the paper's coefficients, errors and
-/// the ellipse baseline's errors.
+/// One loop in the JSON file: its plane frame at the top level (`origin`,
+/// `e1`, `e2`, `normal`), everything [`loop_fit_json`] writes (order, the
+/// paper's coefficients, errors, the ellipse baseline), and the cut loop's
+/// own point count, perimeter and area.
 fn loop_json(l: &CutLoop, fit: &LoopFit) -> Value {
     let f = &fit.curve.frame;
-    json!({
-        "origin": f.origin.to_array(),
-        "e1": f.e1.to_array(),
-        "e2": f.e2.to_array(),
-        "normal": f.normal().to_array(),
-        "order": fit.order,
-        "a": fit.curve.a,
-        "b": fit.curve.b,
-        "ea": fit.errors.ea,
-        "em": fit.errors.em,
-        "met": fit.met,
-        "ellipse": fit.ellipse.map(|e| json!({ "ea": e.errors.ea, "em": e.errors.em })),
-        "points": l.points.len(),
-        "perimeter": l.perimeter,
-        "area": l.area,
-    })
+    let mut j = loop_fit_json(fit);
+    j["origin"] = json!(f.origin.to_array());
+    j["e1"] = json!(f.e1.to_array());
+    j["e2"] = json!(f.e2.to_array());
+    j["points"] = json!(l.points.len());
+    j["perimeter"] = json!(l.perimeter);
+    j["area"] = json!(l.area);
+    j
+}
+
+/// Two unit vectors across `axis`: the first is the coordinate axis least
+/// aligned with it (x for a y axis: a front view of a y-up body), projected;
+/// the second completes a right-handed frame.
+fn across(axis: Vec3) -> (Vec3, Vec3) {
+    let n = axis.normalized().unwrap_or(Vec3::Y);
+    let a = [n.x.abs(), n.y.abs(), n.z.abs()];
+    let helper = if a[0] <= a[1] && a[0] <= a[2] {
+        Vec3::X
+    } else if a[1] <= a[2] {
+        Vec3::Y
+    } else {
+        Vec3::Z
+    };
+    let u = (helper - n * helper.dot(n)).normalized().unwrap_or(Vec3::X);
+    (u, n.cross(u))
+}
+
+/// The plot of `trigbody sections`: an overview with every loop over the
+/// input's outline seen from the side, then up to `detail` levels with their
+/// points, trig fits and ellipses in the cutting plane.
+fn section_panels(
+    name: &str,
+    outline: &[Point3],
+    axis: Vec3,
+    fitted: &[FittedLevel],
+    detail: usize,
+) -> Vec<Panel> {
+    let (u, w) = across(axis);
+    let up = axis.normalized().unwrap_or(Vec3::Y);
+    let side = |p: Point3| Vec2::new(p.dot(u), p.dot(up));
+    let top = |p: Point3| Vec2::new(p.dot(u), p.dot(w));
+    let stride = outline.len().div_ceil(20_000).max(1);
+    let mut overview = Panel {
+        title: format!("{name}: {} levels", fitted.len()),
+        points: outline.iter().step_by(stride).map(|p| side(*p)).collect(),
+        points_label: "input (outline)".into(),
+        faint_points: true,
+        curves: Vec::new(),
+    };
+    for (k, (_, loops)) in fitted.iter().enumerate() {
+        for (i, (_, fit)) in loops.iter().enumerate() {
+            overview.curves.push(Curve2 {
+                label: if k == 0 && i == 0 {
+                    "trig curves".into()
+                } else {
+                    String::new()
+                },
+                points: fit.curve.sample(200).into_iter().map(side).collect(),
+                color: (20, 150, 40),
+                closed: true,
+            });
+        }
+    }
+    let mut panels = vec![overview];
+    let n = fitted.len();
+    let picks: Vec<usize> = if n <= detail {
+        (0..n).collect()
+    } else {
+        (0..detail)
+            .map(|k| (k * (n - 1)) / (detail - 1).max(1))
+            .collect()
+    };
+    for k in picks {
+        let (offset, loops) = &fitted[k];
+        let mut panel = Panel {
+            title: format!("offset {offset:.4}: {} loop(s)", loops.len()),
+            points_label: "section points".into(),
+            ..Panel::default()
+        };
+        for (i, (points, fit)) in loops.iter().enumerate() {
+            panel.points.extend(points.iter().map(|p| top(*p)));
+            panel.curves.push(Curve2 {
+                label: if i == 0 {
+                    "trig series".into()
+                } else {
+                    String::new()
+                },
+                points: fit.curve.sample(300).into_iter().map(top).collect(),
+                color: (20, 150, 40),
+                closed: true,
+            });
+            if let Some(e) = fit.ellipse_curve() {
+                panel.curves.push(Curve2 {
+                    label: if i == 0 {
+                        "ellipse".into()
+                    } else {
+                        String::new()
+                    },
+                    points: e.sample(300).into_iter().map(top).collect(),
+                    color: (30, 60, 220),
+                    closed: true,
+                });
+            }
+        }
+        panels.push(panel);
+    }
+    panels
 }

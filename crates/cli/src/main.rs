@@ -35,12 +35,12 @@ enum Command {
     Loft(cmd_loft::LoftArgs),
     /// Tessellate a model into a mesh (.glb, .obj, .ply, .stl).
     Mesh(cmd_mesh::MeshArgs),
+    /// Draw a mesh shaded from several views side by side (PNG).
+    Render(cmd_render::RenderArgs),
     /// Cut a mesh or a scan with parallel planes and fit every loop.
     Sections(cmd_sections::SectionsArgs),
     /// Make a virtual multi-view scan (points with normals) of a mesh.
     Scan(cmd_scan::ScanArgs),
-    /// Draw a mesh shaded from several views side by side (PNG).
-    Render(cmd_render::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -57,9 +57,9 @@ fn main() -> ExitCode {
         Command::Examples(args) => examples::run(args),
         Command::Loft(args) => cmd_loft::run(args),
         Command::Mesh(args) => cmd_mesh::run(args),
+        Command::Render(args) => cmd_render::run(args),
         Command::Sections(args) => cmd_sections::run(args),
         Command::Scan(args) => cmd_scan::run(args),
-        Command::Render(args) => cmd_render::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -62,7 +62,37 @@ fn sections_of_a_cylinder_are_circles_in_the_json() {
         );
         assert!((l["normal"][1].as_f64().unwrap() - 1.0).abs() < 1e-9);
         assert!(l["ellipse"]["ea"].as_f64().unwrap() < 1e-3);
+        for key in ["origin", "e1", "e2", "order", "ea", "em", "orders_tried"] {
+            assert!(l.get(key).is_some(), "loop lacks {key}");
+        }
     }
+}
+
+#[test]
+fn sections_plot_draws_every_level_and_the_outline() {
+    let dir = scratch("sections_plot");
+    let obj = cylinder_obj(&dir);
+    for name in ["s.svg", "s.png"] {
+        let plot = dir.join(name);
+        trigbody()
+            .args(["sections", obj.to_str().unwrap(), "--count", "4", "--plot"])
+            .arg(&plot)
+            .assert()
+            .success();
+        assert!(std::fs::metadata(&plot).unwrap().len() > 1000);
+    }
+    let svg = std::fs::read_to_string(dir.join("s.svg")).unwrap();
+    // The overview, then one panel per level (4 ≤ --plot-levels).
+    assert_eq!(
+        svg.matches("offset ").count(),
+        4,
+        "one detail panel per level"
+    );
+    assert!(svg.contains("input (outline)") && svg.contains("ellipse"));
+    trigbody()
+        .args(["sections", obj.to_str().unwrap(), "--plot", "x.gif"])
+        .assert()
+        .code(2);
 }
 
 #[test]

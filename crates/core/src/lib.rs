@@ -29,6 +29,7 @@ pub mod patch;
 pub mod scan_section;
 pub mod scanner;
 pub mod section;
+pub mod segment;
 pub mod series;
 pub mod shapes;
 pub mod tessellate;

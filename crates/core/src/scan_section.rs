@@ -374,7 +374,8 @@ impl<'c> CloudSlicer<'c> {
             }
         }
         let mut loops = Vec::new();
-        for (reps, closed_ring, raw) in ordered {
+        for (mut reps, closed_ring, raw) in ordered {
+            untangle(&mut reps, &pts);
             let planar: Vec<Point3> = reps
                 .iter()
                 .map(|&k| origin + e1 * pts[k].x + e2 * pts[k].y)
@@ -425,13 +426,35 @@ impl<'c> CloudSlicer<'c> {
 /// views) that shift does not average out and biases the loop. Surfaces
 /// within 60° of facing along the axis (`|g|² < ¼`) and invalid normals are
 /// projected straight.
+/// Removes self-crossings of the ordered loop (local zigzags where bins
+/// along a grazing stretch hold points from both sides of the slab) by
+/// 2-opt moves: when edges `i` and `j > i` cross, the points `i+1..=j` are
+/// reversed, which shortens the loop, so the repair ends. At most `n` moves;
+/// what remains is left for the fit to report.
+fn untangle(reps: &mut [usize], pts: &[Point2]) {
+    let mut q: Vec<Vec2> = reps.iter().map(|&k| pts[k]).collect();
+    for _ in 0..reps.len() {
+        let Some((i, j)) = crate::fit::find_self_crossing(&q) else {
+            return;
+        };
+        if j <= i + 1 || j >= q.len() {
+            return;
+        }
+        q[i + 1..=j].reverse();
+        reps[i + 1..=j].reverse();
+    }
+}
+
+/// Smallest `|g|²` at which [`onto_plane`] moves a point.
+const MIN_TANGENT_SLOPE2: Real = 0.04;
+
 pub fn onto_plane(p: Point3, n: Vec3, a: Vec3, c: Real) -> Point3 {
     let Some(n) = n.normalized() else {
         return p;
     };
     let g = a - n * n.dot(a);
     let g2 = g.norm_squared();
-    if g2 < 0.25 {
+    if g2 < MIN_TANGENT_SLOPE2 {
         return p;
     }
     p - g * ((p.dot(a) - c) / g2)
@@ -1499,6 +1522,27 @@ mod tests {
         // nearly horizontal surfaces are projected straight
         let flat = Vec3::new(0.1, 0.0, 1.0);
         assert_eq!(onto_plane(p, flat, Vec3::Z, 0.3), p);
+    }
+
+    /// A loop with a local zigzag is untangled into a simple polygon.
+    #[test]
+    fn zigzags_are_untangled() {
+        let mut pts: Vec<Point2> = (0..40)
+            .map(|k| {
+                let a = TAU * k as Real / 40.0;
+                Vec2::new(a.cos(), a.sin())
+            })
+            .collect();
+        pts.swap(10, 11);
+        pts.swap(25, 27);
+        let mut reps: Vec<usize> = (0..40).collect();
+        assert!(crate::fit::find_self_crossing(&pts).is_some());
+        untangle(&mut reps, &pts);
+        let q: Vec<Point2> = reps.iter().map(|&k| pts[k]).collect();
+        assert!(crate::fit::find_self_crossing(&q).is_none());
+        let mut sorted = reps.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..40).collect::<Vec<_>>());
     }
 
     #[test]

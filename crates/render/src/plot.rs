@@ -43,6 +43,9 @@ pub struct Panel {
     pub points: Vec<Vec2>,
     /// Label for the points in the legend.
     pub points_label: String,
+    /// Draw the points small and light grey beneath the curves (an outline
+    /// for context) instead of as red dots over them.
+    pub faint_points: bool,
     pub curves: Vec<Curve2>,
 }
 
@@ -214,6 +217,18 @@ fn draw_panel<DB: DrawingBackend>(
         .label_style(("sans-serif", 11))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()?;
+    if panel.faint_points && !panel.points.is_empty() {
+        let grey = RGBColor(185, 185, 185);
+        chart
+            .draw_series(
+                panel
+                    .points
+                    .iter()
+                    .map(|p| Circle::new((p.x, p.y), 1, grey.filled())),
+            )?
+            .label(panel.points_label.clone())
+            .legend(move |(x, y)| Circle::new((x + 9, y), 3, grey.filled()));
+    }
     for curve in &panel.curves {
         let color = RGBColor(curve.color.0, curve.color.1, curve.color.2);
         let mut pts: Vec<(Real, Real)> = curve.points.iter().map(|p| (p.x, p.y)).collect();
@@ -222,14 +237,15 @@ fn draw_panel<DB: DrawingBackend>(
                 pts.push(first);
             }
         }
-        chart
-            .draw_series(LineSeries::new(pts, color.stroke_width(2)))?
-            .label(curve.label.clone())
-            .legend(move |(x, y)| {
+        let series = chart.draw_series(LineSeries::new(pts, color.stroke_width(2)))?;
+        // An empty label keeps a curve out of the legend (one entry per kind).
+        if !curve.label.is_empty() {
+            series.label(curve.label.clone()).legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2))
             });
+        }
     }
-    if !panel.points.is_empty() {
+    if !panel.points.is_empty() && !panel.faint_points {
         let red = RGBColor(200, 30, 30);
         chart
             .draw_series(
@@ -266,6 +282,7 @@ mod tests {
             title: "ellipse".into(),
             points: pts.clone(),
             points_label: "input".into(),
+            faint_points: false,
             curves: vec![Curve2 {
                 label: "fit".into(),
                 points: pts,

@@ -5,6 +5,8 @@
 //! file, line or value), 1 internal failure.
 
 mod cmd_fit;
+mod cmd_loft;
+mod cmd_mesh;
 mod cmd_render;
 mod cmd_scan;
 mod cmd_sections;
@@ -29,6 +31,10 @@ enum Command {
     /// Fit the bundled real cross-sections (torso, waist, neck, thigh, calf,
     /// upper arm) and compare each with the ellipse baseline.
     Examples(examples::ExamplesArgs),
+    /// Skin cross-section curves into a part (a model file).
+    Loft(cmd_loft::LoftArgs),
+    /// Tessellate a model into a mesh (.glb, .obj, .ply, .stl).
+    Mesh(cmd_mesh::MeshArgs),
     /// Draw a mesh shaded from several views side by side (PNG).
     Render(cmd_render::RenderArgs),
     /// Cut a mesh or a scan with parallel planes and fit every loop.
@@ -49,6 +55,8 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Fit(args) => cmd_fit::run(args),
         Command::Examples(args) => examples::run(args),
+        Command::Loft(args) => cmd_loft::run(args),
+        Command::Mesh(args) => cmd_mesh::run(args),
         Command::Render(args) => cmd_render::run(args),
         Command::Sections(args) => cmd_sections::run(args),
         Command::Scan(args) => cmd_scan::run(args),

@@ -13,6 +13,7 @@
 //! assert!((c.area() - std::f64::consts::PI * 0.01).abs() < 1e-15);
 //! ```
 
+pub mod cap;
 pub mod curve;
 pub mod distance;
 pub mod ellipse;
@@ -23,13 +24,17 @@ pub mod lsq;
 pub mod math;
 pub mod mesh;
 pub mod order;
+pub mod part;
+pub mod patch;
 pub mod scan_section;
 pub mod scanner;
 pub mod section;
 pub mod segment;
 pub mod series;
 pub mod shapes;
+pub mod tessellate;
 
+pub use cap::{Cap, CapKind};
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use ellipse::EllipseFit;
 pub use fit::{
@@ -38,4 +43,7 @@ pub use fit::{
 pub use lsq::FitErrors;
 pub use math::{Point2, Point3, Real, Vec2, Vec3};
 pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
+pub use part::{Part, PartError, PartOptions, Segment, Skinning};
+pub use patch::{EndConditions, Patch, PatchError};
 pub use series::Series;
+pub use tessellate::{tessellate_part, tessellate_part_into, TessellateError, TessellationOptions};

@@ -1,0 +1,510 @@
+//! The trigbody model file: a versioned JSON document holding everything
+//! needed to regenerate a model's surfaces (method.md §7).
+//!
+//! ```json
+//! {
+//!   "format": "trigbody-model",
+//!   "version": 1,
+//!   "units": "m",
+//!   "parts": [
+//!     {
+//!       "name": "leg_left",
+//!       "skinning": { "method": "catmull-rom", "curves_per_patch": 4,
+//!                     "curvature_continuity": false, "align_twist": true },
+//!       "caps": { "start": { "kind": "open" },
+//!                 "end": { "kind": "dome", "relative_height": 1.0 } },
+//!       "sections": [
+//!         { "frame": { "origin": [0, 0, 0], "e1": [1, 0, 0], "e2": [0, 1, 0] },
+//!           "a": [0.0, 0.06, 0.0], "b": [0.0, 0.05, 0.0] }
+//!       ]
+//!     }
+//!   ]
+//! }
+//! ```
+//!
+//! Curves keep the paper's coefficient layout (`a`, `b`, Eq. 3) and their
+//! plane frames; sections are stored as given (before twist alignment), so
+//! reading a file rebuilds exactly the part that was written (f64 values
+//! round-trip exactly: shortest representation out, correctly rounded in).
+//! The document is meant to grow: a body adds transitions and landmarks
+//! beside `parts`; readers ignore fields they do not know and refuse versions
+//! they do not know.
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use std::io::{Read, Write};
+use thiserror::Error;
+use trigbody_core::{CapKind, Frame, Part, PartError, PartOptions, Skinning, TrigCurve, Vec3};
+
+/// The `format` field of every model file.
+pub const MODEL_FORMAT: &str = "trigbody-model";
+/// The model file version this build writes and reads.
+pub const MODEL_VERSION: u64 = 1;
+
+/// A named part of a model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelPart {
+    /// The part's name (kept in the model file and as the GLB node name).
+    pub name: String,
+    /// The skinned part.
+    pub part: Part,
+}
+
+/// A model: named parts in one unit of length.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    /// The unit of every coordinate, e.g. `"m"` (informational; never
+    /// converted).
+    pub units: String,
+    /// The parts, in file order.
+    pub parts: Vec<ModelPart>,
+}
+
+/// What is wrong with a model file (every message names the part and
+/// section, and the value).
+#[derive(Debug, Error)]
+pub enum ModelError {
+    /// Not JSON at all (the message has the line and column; NaN and
+    /// infinities are not JSON either).
+    #[error("not valid JSON: {0}")]
+    Json(#[source] serde_json::Error),
+    /// The document's `format` is not `trigbody-model`.
+    #[error("not a trigbody model: \"format\" is {found}, expected \"{MODEL_FORMAT}\"")]
+    NotAModel {
+        /// The `format` value found (or `missing`).
+        found: String,
+    },
+    /// A version this build cannot read.
+    #[error("model version {found} is not supported (this build reads version {MODEL_VERSION})")]
+    UnknownVersion {
+        /// The `version` value found (or `missing`).
+        found: String,
+    },
+    /// A field is missing or has the wrong type.
+    #[error("{context}: {message}")]
+    Structure {
+        /// Where: the part or section.
+        context: String,
+        /// What (serde's message, naming the field).
+        message: String,
+    },
+    /// A part with fewer than 2 sections.
+    #[error("part '{part}': {count} section(s); a part needs at least 2")]
+    TooFewSections {
+        /// The part's name.
+        part: String,
+        /// How many sections it has.
+        count: usize,
+    },
+    /// A section without its plane frame.
+    #[error("part '{part}', section {section}: no \"frame\" (every section needs its plane: origin, e1, e2)")]
+    MissingFrame {
+        /// The part's name.
+        part: String,
+        /// The section's index.
+        section: usize,
+    },
+    /// A coefficient or frame component that is null (NaN written by a
+    /// careless writer) or otherwise not a finite number.
+    #[error("part '{part}', section {section}: {field}[{index}] is {value}, not a finite number")]
+    NonFinite {
+        /// The part's name.
+        part: String,
+        /// The section's index.
+        section: usize,
+        /// `a`, `b`, `origin`, `e1` or `e2`.
+        field: &'static str,
+        /// The index in that list.
+        index: usize,
+        /// The value found.
+        value: String,
+    },
+    /// A skinning method this build does not know.
+    #[error("part '{part}': unknown skinning method \"{method}\" (expected one of catmull-rom, natural-spline, paper-chained, paper-unchained)")]
+    UnknownSkinning {
+        /// The part's name.
+        part: String,
+        /// The method found.
+        method: String,
+    },
+    /// The sections do not make a part (crossing planes, mixed frames, bad
+    /// curves…; see [`PartError`]).
+    #[error("part '{part}': {source}")]
+    Part {
+        /// The part's name.
+        part: String,
+        /// Why.
+        #[source]
+        source: PartError,
+    },
+    /// Reading or writing failed.
+    #[error("model I/O: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+#[derive(Serialize, Deserialize)]
+struct FrameRecord {
+    origin: Vec<Option<f64>>,
+    e1: Vec<Option<f64>>,
+    e2: Vec<Option<f64>>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct SectionRecord {
+    #[serde(default)]
+    frame: Option<FrameRecord>,
+    a: Vec<Option<f64>>,
+    b: Vec<Option<f64>>,
+}
+
+#[derive(Serialize, Deserialize)]
+struct SkinningRecord {
+    method: String,
+    #[serde(default = "default_k")]
+    curves_per_patch: usize,
+    #[serde(default)]
+    curvature_continuity: bool,
+    #[serde(default = "default_true")]
+    align_twist: bool,
+}
+
+fn default_k() -> usize {
+    trigbody_core::part::DEFAULT_CURVES_PER_PATCH
+}
+fn default_true() -> bool {
+    true
+}
+
+#[derive(Serialize, Deserialize, Default)]
+struct CapsRecord {
+    #[serde(default)]
+    start: CapKind,
+    #[serde(default)]
+    end: CapKind,
+}
+
+#[derive(Serialize, Deserialize)]
+struct PartRecord {
+    name: String,
+    skinning: SkinningRecord,
+    #[serde(default)]
+    caps: CapsRecord,
+    sections: Vec<SectionRecord>,
+}
+
+fn structure(context: impl Into<String>) -> impl FnOnce(serde_json::Error) -> ModelError {
+    let context = context.into();
+    move |e| ModelError::Structure {
+        context,
+        message: e.to_string(),
+    }
+}
+
+fn finite_vec(
+    values: &[Option<f64>],
+    part: &str,
+    section: usize,
+    field: &'static str,
+) -> Result<Vec<f64>, ModelError> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(index, v)| match v {
+            Some(x) if x.is_finite() => Ok(*x),
+            other => Err(ModelError::NonFinite {
+                part: part.to_string(),
+                section,
+                field,
+                index,
+                value: other.map_or("null".to_string(), |x| x.to_string()),
+            }),
+        })
+        .collect()
+}
+
+fn vec3(
+    values: &[Option<f64>],
+    part: &str,
+    section: usize,
+    field: &'static str,
+) -> Result<Vec3, ModelError> {
+    let v = finite_vec(values, part, section, field)?;
+    <[f64; 3]>::try_from(v.as_slice())
+        .map(Vec3::from)
+        .map_err(|_| ModelError::Structure {
+            context: format!("part '{part}', section {section}"),
+            message: format!("frame.{field} has {} components, expected 3", v.len()),
+        })
+}
+
+/// Checks one section record and makes it a curve (validated by the core).
+fn section_curve(rec: &SectionRecord, part: &str, section: usize) -> Result<TrigCurve, ModelError> {
+    let frame = rec.frame.as_ref().ok_or_else(|| ModelError::MissingFrame {
+        part: part.to_string(),
+        section,
+    })?;
+    let frame = Frame {
+        origin: vec3(&frame.origin, part, section, "origin")?,
+        e1: vec3(&frame.e1, part, section, "e1")?,
+        e2: vec3(&frame.e2, part, section, "e2")?,
+    };
+    let a = finite_vec(&rec.a, part, section, "a")?;
+    let b = finite_vec(&rec.b, part, section, "b")?;
+    TrigCurve::new(frame, a, b).map_err(|source| ModelError::Part {
+        part: part.to_string(),
+        source: PartError::Curve {
+            index: section,
+            source,
+        },
+    })
+}
+
+fn section_record(c: &TrigCurve) -> SectionRecord {
+    let some = |v: &[f64]| v.iter().map(|x| Some(*x)).collect();
+    SectionRecord {
+        frame: Some(FrameRecord {
+            origin: some(&c.frame.origin.to_array()),
+            e1: some(&c.frame.e1.to_array()),
+            e2: some(&c.frame.e2.to_array()),
+        }),
+        a: some(&c.a),
+        b: some(&c.b),
+    }
+}
+
+/// Reads a list of curves from `{"curves": [{frame, a, b}, …]}` (the
+/// hand-written input of `trigbody loft`, the paper's modelling workflow).
+/// Every curve is validated; `what` names the input in messages.
+pub fn read_curves<R: Read>(reader: R, what: &str) -> Result<Vec<TrigCurve>, ModelError> {
+    let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    curves_of(&doc, what)
+}
+
+fn curves_of(doc: &Value, what: &str) -> Result<Vec<TrigCurve>, ModelError> {
+    let list = doc
+        .get("curves")
+        .cloned()
+        .ok_or_else(|| ModelError::Structure {
+            context: what.to_string(),
+            message: "expected an object with a \"curves\" list".to_string(),
+        })?;
+    let records: Vec<SectionRecord> = serde_json::from_value(list).map_err(structure(what))?;
+    records
+        .iter()
+        .enumerate()
+        .map(|(i, r)| section_curve(r, what, i))
+        .collect()
+}
+
+/// The `format` of the file `trigbody sections --json` writes.
+pub const SECTIONS_FORMAT: &str = "trigbody-sections";
+
+/// Curves for lofting, per level along the part. Accepts
+///
+/// * one list `{"curves": [{frame, a, b}, ...]}` (one curve per level, in
+///   order: the hand-written input of the paper's modelling workflow);
+/// * levels with several curves each, `{"sections": [{"curves": [...]},
+///   ...]}`;
+/// * the output of `trigbody sections --json`: `{"format":
+///   "trigbody-sections", "version": 1, "levels": [{"loops": [{origin, e1,
+///   e2, a, b, ...}, ...]}, ...]}` (every loop a cut met, its frame inline).
+pub fn read_curve_levels<R: Read>(
+    reader: R,
+    what: &str,
+) -> Result<Vec<Vec<TrigCurve>>, ModelError> {
+    let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    if doc.get("format").and_then(Value::as_str) == Some(SECTIONS_FORMAT) {
+        return sections_file_levels(&doc, what);
+    }
+    if doc.get("curves").is_some() {
+        return Ok(curves_of(&doc, what)?
+            .into_iter()
+            .map(|c| vec![c])
+            .collect());
+    }
+    let Some(Value::Array(levels)) = doc.get("sections") else {
+        return Err(ModelError::Structure {
+            context: what.to_string(),
+            message: "expected \"curves\" (a list of curves), \"sections\" (a list of levels, each with \"curves\") or a trigbody-sections file".to_string(),
+        });
+    };
+    levels
+        .iter()
+        .enumerate()
+        .map(|(i, level)| curves_of(level, &format!("{what}, section {i}")))
+        .collect()
+}
+
+fn sections_file_levels(doc: &Value, what: &str) -> Result<Vec<Vec<TrigCurve>>, ModelError> {
+    match doc.get("version") {
+        Some(v) if v.as_u64() == Some(1) => {}
+        other => {
+            return Err(ModelError::UnknownVersion {
+                found: other.map_or("missing".to_string(), |v| v.to_string()),
+            })
+        }
+    }
+    let Some(Value::Array(levels)) = doc.get("levels") else {
+        return Err(ModelError::Structure {
+            context: what.to_string(),
+            message: "a trigbody-sections file needs a \"levels\" list".to_string(),
+        });
+    };
+    levels
+        .iter()
+        .enumerate()
+        .map(|(i, level)| {
+            let context = format!("{what}, level {i}");
+            let loops = level
+                .get("loops")
+                .and_then(Value::as_array)
+                .ok_or_else(|| ModelError::Structure {
+                    context: context.clone(),
+                    message: "no \"loops\" list".to_string(),
+                })?;
+            loops
+                .iter()
+                .enumerate()
+                .map(|(k, l)| {
+                    // The frame is inline: {origin, e1, e2, a, b, ...}.
+                    let mut rec = l.clone();
+                    if rec.get("frame").is_none() {
+                        if let (Some(o), Some(e1), Some(e2)) =
+                            (l.get("origin"), l.get("e1"), l.get("e2"))
+                        {
+                            rec["frame"] = serde_json::json!({ "origin": o, "e1": e1, "e2": e2 });
+                        }
+                    }
+                    let r: SectionRecord = serde_json::from_value(rec)
+                        .map_err(structure(format!("{context}, loop {k}")))?;
+                    section_curve(&r, &context, k)
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// Parses a model from JSON text.
+pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
+    let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    match doc.get("format") {
+        Some(Value::String(s)) if s == MODEL_FORMAT => {}
+        other => {
+            return Err(ModelError::NotAModel {
+                found: other.map_or("missing".to_string(), |v| v.to_string()),
+            })
+        }
+    }
+    match doc.get("version") {
+        Some(v) if v.as_u64() == Some(MODEL_VERSION) => {}
+        other => {
+            return Err(ModelError::UnknownVersion {
+                found: other.map_or("missing".to_string(), |v| v.to_string()),
+            })
+        }
+    }
+    let units = match doc.get("units") {
+        Some(Value::String(s)) => s.clone(),
+        None => "m".to_string(),
+        Some(other) => {
+            return Err(ModelError::Structure {
+                context: "model".to_string(),
+                message: format!("\"units\" must be a string, got {other}"),
+            })
+        }
+    };
+    let parts_value = doc
+        .get("parts")
+        .cloned()
+        .unwrap_or(Value::Array(Vec::new()));
+    let Value::Array(part_values) = parts_value else {
+        return Err(ModelError::Structure {
+            context: "model".to_string(),
+            message: "\"parts\" must be a list".to_string(),
+        });
+    };
+    let mut parts = Vec::with_capacity(part_values.len());
+    for (i, pv) in part_values.into_iter().enumerate() {
+        let rec: PartRecord = serde_json::from_value(pv).map_err(structure(format!("part {i}")))?;
+        let name = rec.name.clone();
+        if rec.sections.len() < 2 {
+            return Err(ModelError::TooFewSections {
+                part: name,
+                count: rec.sections.len(),
+            });
+        }
+        let skinning = Skinning::from_name(&rec.skinning.method).ok_or_else(|| {
+            ModelError::UnknownSkinning {
+                part: name.clone(),
+                method: rec.skinning.method.clone(),
+            }
+        })?;
+        let curves = rec
+            .sections
+            .iter()
+            .enumerate()
+            .map(|(k, s)| section_curve(s, &name, k))
+            .collect::<Result<Vec<_>, _>>()?;
+        let options = PartOptions {
+            skinning,
+            curves_per_patch: rec.skinning.curves_per_patch,
+            curvature_continuity: rec.skinning.curvature_continuity,
+            align_twist: rec.skinning.align_twist,
+            start_cap: rec.caps.start,
+            end_cap: rec.caps.end,
+        };
+        let part = Part::new(curves, &options).map_err(|source| ModelError::Part {
+            part: name.clone(),
+            source,
+        })?;
+        parts.push(ModelPart { name, part });
+    }
+    Ok(Model { units, parts })
+}
+
+#[derive(Serialize)]
+struct ModelRecord<'a> {
+    format: &'static str,
+    version: u64,
+    units: &'a str,
+    parts: Vec<PartRecord>,
+}
+
+fn model_record(model: &Model) -> ModelRecord<'_> {
+    let parts = model
+        .parts
+        .iter()
+        .map(|p| {
+            let o = p.part.options();
+            PartRecord {
+                name: p.name.clone(),
+                skinning: SkinningRecord {
+                    method: o.skinning.name().to_string(),
+                    curves_per_patch: o.curves_per_patch,
+                    curvature_continuity: o.curvature_continuity,
+                    align_twist: o.align_twist,
+                },
+                caps: CapsRecord {
+                    start: o.start_cap,
+                    end: o.end_cap,
+                },
+                sections: p.part.sections().iter().map(section_record).collect(),
+            }
+        })
+        .collect();
+    ModelRecord {
+        format: MODEL_FORMAT,
+        version: MODEL_VERSION,
+        units: &model.units,
+        parts,
+    }
+}
+
+/// Writes the model as pretty-printed JSON (fields in the documented order:
+/// format, version, units, parts).
+pub fn write_model<W: Write>(mut writer: W, model: &Model) -> Result<(), ModelError> {
+    serde_json::to_writer_pretty(&mut writer, &model_record(model)).map_err(ModelError::Json)?;
+    writer.write_all(b"\n")?;
+    writer.flush()?;
+    Ok(())
+}

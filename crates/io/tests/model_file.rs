@@ -1,0 +1,251 @@
+//! The model file: exact round trips and clear errors for bad input.
+
+use trigbody_core::part::PartError;
+use trigbody_core::{CapKind, Frame, Part, PartOptions, Skinning, TrigCurve, Vec3};
+use trigbody_io::model::{read_curves, read_model, write_model, Model, ModelError, ModelPart};
+
+fn sections() -> Vec<TrigCurve> {
+    (0..6)
+        .map(|k| {
+            let z = 0.031 * k as f64 + 1e-3 * (k as f64).sin();
+            let frame = Frame::from_normal(
+                Vec3::new(0.1 + 0.002 * k as f64, -0.3, z),
+                Vec3::new(0.02 * (k as f64).cos(), 0.01, 1.0),
+                Vec3::X,
+            )
+            .unwrap();
+            let a = vec![
+                1e-3,
+                0.061 + 0.001 * k as f64,
+                0.0021,
+                0.0043 / 3.0,
+                -0.0007,
+            ];
+            let b = vec![
+                -2e-4,
+                0.05 - 0.0013 * k as f64,
+                0.0011,
+                1.0 / 7.0 * 1e-3,
+                0.0003,
+            ];
+            // Phase-shifted so that twist alignment has work to do.
+            TrigCurve::new(frame, a, b).unwrap().shifted(0.1 * k as f64)
+        })
+        .collect()
+}
+
+fn model(options: &PartOptions) -> Model {
+    Model {
+        units: "m".into(),
+        parts: vec![
+            ModelPart {
+                name: "leg_left".into(),
+                part: Part::new(sections(), options).unwrap(),
+            },
+            ModelPart {
+                name: "tube \"two\"".into(),
+                part: Part::new(sections()[1..4].to_vec(), &PartOptions::default()).unwrap(),
+            },
+        ],
+    }
+}
+
+fn round_trip(m: &Model) -> Model {
+    let mut bytes = Vec::new();
+    write_model(&mut bytes, m).unwrap();
+    read_model(bytes.as_slice()).unwrap()
+}
+
+#[test]
+fn round_trip_is_exact_for_every_option() {
+    for skinning in Skinning::ALL {
+        for (start_cap, end_cap) in [
+            (CapKind::Open, CapKind::Open),
+            (
+                CapKind::Flat,
+                CapKind::Dome {
+                    relative_height: 0.7,
+                },
+            ),
+        ] {
+            let options = PartOptions {
+                skinning,
+                curves_per_patch: 3,
+                curvature_continuity: skinning == Skinning::PaperChained,
+                align_twist: true,
+                start_cap,
+                end_cap,
+            };
+            let m = model(&options);
+            let back = round_trip(&m);
+            // Exact f64 equality of everything, patches included.
+            assert_eq!(back, m, "{skinning:?}");
+        }
+    }
+}
+
+fn text(m: &Model) -> String {
+    let mut bytes = Vec::new();
+    write_model(&mut bytes, m).unwrap();
+    String::from_utf8(bytes).unwrap()
+}
+
+fn edit(f: impl FnOnce(&mut serde_json::Value)) -> Result<Model, ModelError> {
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&text(&model(&PartOptions::default()))).unwrap();
+    f(&mut doc);
+    read_model(doc.to_string().as_bytes())
+}
+
+#[test]
+fn nan_coefficients_are_refused() {
+    let err = edit(|d| d["parts"][0]["sections"][2]["a"][3] = serde_json::Value::Null).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ModelError::NonFinite {
+                section: 2,
+                field: "a",
+                index: 3,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("leg_left"), "{err}");
+    // A literal NaN is not JSON: a parse error with its position.
+    let t = text(&model(&PartOptions::default())).replacen("0.061", "NaN", 1);
+    let err = read_model(t.as_bytes()).unwrap_err();
+    assert!(matches!(err, ModelError::Json(_)));
+    assert!(err.to_string().contains("line"), "{err}");
+    let err = edit(|d| d["parts"][0]["sections"][0]["frame"]["e1"][1] = serde_json::Value::Null)
+        .unwrap_err();
+    assert!(
+        matches!(err, ModelError::NonFinite { field: "e1", .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn unknown_version_and_format_are_refused() {
+    let err = edit(|d| d["version"] = 2.into()).unwrap_err();
+    assert!(matches!(err, ModelError::UnknownVersion { .. }), "{err}");
+    assert!(err.to_string().contains('2'));
+    let err = edit(|d| d["format"] = "something-else".into()).unwrap_err();
+    assert!(matches!(err, ModelError::NotAModel { .. }), "{err}");
+}
+
+#[test]
+fn missing_and_mixed_frames_are_refused() {
+    let err = edit(|d| {
+        d["parts"][0]["sections"][3]
+            .as_object_mut()
+            .unwrap()
+            .remove("frame");
+    })
+    .unwrap_err();
+    assert!(
+        matches!(err, ModelError::MissingFrame { section: 3, .. }),
+        "{err}"
+    );
+    // One frame flipped (its normal against the part's axis).
+    let err = edit(|d| {
+        let e2 = d["parts"][0]["sections"][4]["frame"]["e2"].clone();
+        let e1 = d["parts"][0]["sections"][4]["frame"]["e1"].clone();
+        d["parts"][0]["sections"][4]["frame"]["e1"] = e2;
+        d["parts"][0]["sections"][4]["frame"]["e2"] = e1;
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ModelError::Part {
+                source: PartError::MixedFrames { index: 4, .. },
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn short_section_lists_and_crossing_planes_are_refused() {
+    let err = edit(|d| {
+        d["parts"][0]["sections"]
+            .as_array_mut()
+            .unwrap()
+            .truncate(1);
+    })
+    .unwrap_err();
+    assert!(
+        matches!(err, ModelError::TooFewSections { count: 1, .. }),
+        "{err}"
+    );
+    // Section 2's plane tilted 60° about x: it cuts through sections 1 and 3.
+    let err = edit(|d| {
+        d["parts"][0]["sections"][2]["frame"]["e2"] =
+            serde_json::json!([0.0, 0.5, -0.8660254037844386]);
+        d["parts"][0]["sections"][2]["frame"]["e1"] = serde_json::json!([1.0, 0.0, 0.0]);
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ModelError::Part {
+                source: PartError::CrossingPlanes { .. },
+                ..
+            }
+        ),
+        "{err}"
+    );
+    assert!(err.to_string().contains("cross"), "{err}");
+}
+
+#[test]
+fn curve_lists_read_and_validate() {
+    let json = r#"{"curves": [
+        {"frame": {"origin": [0,0,0], "e1": [1,0,0], "e2": [0,1,0]}, "a": [0, 0.1, 0], "b": [0, 0.1, 0]},
+        {"frame": {"origin": [0,0,0.1], "e1": [1,0,0], "e2": [0,1,0]}, "a": [0, 0.1, 0, 0.01, 0], "b": [0, 0.1, 0, 0, 0]}
+    ]}"#;
+    let curves = read_curves(json.as_bytes(), "in.json").unwrap();
+    assert_eq!(curves.len(), 2);
+    assert_eq!(curves[1].order(), 2);
+    let bad = json.replace("\"a\": [0, 0.1, 0, 0.01, 0]", "\"a\": [0, 0.1]");
+    let err = read_curves(bad.as_bytes(), "in.json").unwrap_err();
+    assert!(err.to_string().contains("in.json"), "{err}");
+    assert!(err.to_string().contains("section 1"), "{err}");
+}
+
+#[test]
+fn sections_files_read_per_level() {
+    use trigbody_io::model::read_curve_levels;
+    let loop_json = |x: f64, y: f64| {
+        format!(
+            r#"{{"origin": [{x}, {y}, 0], "e1": [0, 0, 1], "e2": [1, 0, 0], "normal": [0, 1, 0],
+                "order": 1, "a": [0, 0.05, 0], "b": [0, 0.04, 0], "ea": 0.001, "em": 0.002, "met": true}}"#
+        )
+    };
+    let doc = format!(
+        r#"{{"format": "trigbody-sections", "version": 1, "input": "body.obj", "kind": "mesh",
+            "axis": [0, 1, 0], "levels": [
+              {{"offset": 0.1, "loops": [{}, {}]}},
+              {{"offset": 0.13, "loops": [{}]}}
+            ]}}"#,
+        loop_json(-0.1, 0.1),
+        loop_json(0.1, 0.1),
+        loop_json(0.1, 0.13)
+    );
+    let levels = read_curve_levels(doc.as_bytes(), "s.json").unwrap();
+    assert_eq!(levels.iter().map(Vec::len).collect::<Vec<_>>(), [2, 1]);
+    assert_eq!(levels[1][0].frame.origin, Vec3::new(0.1, 0.13, 0.0));
+    let v2 = doc.replace("\"version\": 1", "\"version\": 2");
+    assert!(matches!(
+        read_curve_levels(v2.as_bytes(), "s.json"),
+        Err(ModelError::UnknownVersion { .. })
+    ));
+    let flat = r#"{"curves": [{"frame": {"origin": [0,0,0], "e1": [1,0,0], "e2": [0,1,0]}, "a": [0,1,0], "b": [0,1,0]}]}"#;
+    assert_eq!(
+        read_curve_levels(flat.as_bytes(), "c.json").unwrap().len(),
+        1
+    );
+}

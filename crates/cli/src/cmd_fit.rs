@@ -108,10 +108,10 @@ pub struct FitArgs {
     #[command(flatten)]
     pub fit: FitFlags,
     /// The reference direction x,y,z: v = 0 where the ray from the centroid along it crosses the loop.
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub reference: Option<Vec3>,
     /// The direction the loop's normal should point along, x,y,z (3D loops).
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub normal: Option<Vec3>,
     /// Fit a 3D loop that is far from planar anyway (projected, with a warning).
     #[arg(long)]

@@ -42,7 +42,7 @@ pub struct LoftArgs {
     /// pick, until the branch ends (the centre jumps by more than the mean
     /// radius or the area changes by more than a factor 2: a crotch, an
     /// armpit).
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub select: Option<Vec3>,
     /// The model file to write (one part).
     #[arg(short, long)]

@@ -28,7 +28,7 @@ pub struct RenderArgs {
     pub views: Vec<View>,
     /// The file's up axis (x, -x, y, -y, z, -z, or keep); it is turned onto
     /// +y. The model is drawn facing +z.
-    #[arg(long, default_value = "keep")]
+    #[arg(long, default_value = "keep", allow_hyphen_values = true)]
     pub up_axis: UpAxis,
     /// Samples per pixel along each axis (1-4; 2 smooths the edges).
     #[arg(long, default_value_t = 2)]

@@ -50,16 +50,16 @@ pub struct SectionsArgs {
     #[arg(long)]
     pub step: Option<Real>,
     /// Lowest offset along the axis (default: the input's lowest point).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub from: Option<Real>,
     /// Highest offset along the axis (default: the input's highest point).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub to: Option<Real>,
     /// Half-thickness of the slab for scans (default: the point spacing).
     #[arg(long)]
     pub half_thickness: Option<Real>,
     /// Front direction x,y,z: v = 0 of every fitted curve lies along it.
-    #[arg(long, value_parser = parse_vec3)]
+    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub reference: Option<Vec3>,
     #[command(flatten)]
     pub fit: FitFlags,

@@ -253,3 +253,14 @@ fn refuses_to_write_the_plot_over_its_input() {
         "0 0\n1 0\n1 1\n0 1\n0.5 1.2\n"
     );
 }
+
+#[test]
+fn negative_reference_is_a_value() {
+    let loops = loops_dir().join("thigh.xyz");
+    trigbody()
+        .arg("fit")
+        .arg(&loops)
+        .args(["--reference", "-1,0,0", "--normal", "0,-1,0"])
+        .assert()
+        .success();
+}

@@ -213,3 +213,17 @@ fn bad_input_exits_2_naming_the_problem() {
         .assert()
         .code(2);
 }
+
+/// Coordinates are often negative: `--from -0.5` and `--reference -1,0,0`
+/// are values, not flags (a regression found by hand: clap took them for
+/// options).
+#[test]
+fn negative_numbers_are_values() {
+    let dir = scratch("sections_negative");
+    let obj = cylinder_obj(&dir);
+    trigbody()
+        .args(["sections", obj.to_str().unwrap(), "--count", "2"])
+        .args(["--from", "-0.5", "--to", "0.9", "--reference", "-1,0,0"])
+        .assert()
+        .success();
+}

@@ -1,6 +1,7 @@
 //! `trigbody loft SECTIONS.json [--select X,Y,Z] -o PART.json`: skin
 //! cross-section curves into a part and write it as a model file.
 
+use crate::cmd_fit::parse_vec3;
 use crate::exit::bad;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
@@ -77,18 +78,6 @@ pub struct LoftArgs {
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
-}
-
-fn parse_vec3(s: &str) -> Result<Vec3, String> {
-    let v: Vec<Real> = s
-        .split(',')
-        .map(|t| t.trim().parse::<Real>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("'{s}' is not three numbers x,y,z"))?;
-    match v[..] {
-        [x, y, z] if v.iter().all(|c| c.is_finite()) => Ok(Vec3::new(x, y, z)),
-        _ => Err(format!("'{s}' is not three finite numbers x,y,z")),
-    }
 }
 
 fn centre(c: &TrigCurve) -> Point3 {

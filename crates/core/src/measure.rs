@@ -21,7 +21,7 @@
 //!
 //! | name | ISO 7250-1 | plane |
 //! | --- | --- | --- |
-//! | neck | neck circumference (4.4.x) | ⟂ head/neck axis at the neck landmark (the neck's girth minimum) |
+//! | neck | neck circumference | horizontal at the neck landmark (the smallest horizontal convex-hull girth between armpits and head) |
 //! | chest | chest circumference | horizontal, `chest_below_armpit · H` below the higher armpit |
 //! | waist | waist circumference | horizontal, the smallest torso tape girth between 35 % and 85 % of the way from crotch to chest level (the natural waist) |
 //! | hip | hip circumference | horizontal, the largest torso tape girth between `hip_search_start · H` above the crotch and the waist (the buttocks) |
@@ -29,6 +29,13 @@
 //! | knee | knee circumference | ⟂ leg axis at `t = 0.45` (mid-patella) |
 //! | calf | calf circumference | ⟂ leg axis, largest equivalent radius for `t ∈ [0.55, 0.85]` |
 //! | ankle | ankle circumference | ⟂ leg axis, smallest equivalent radius for `t ∈ [0.85, 0.97]` (above the malleoli) |
+//!
+//! Leg fractions `t` run over the leg axis from its first point
+//! `leg_start_below_crotch · H` below the crotch (the axis's first stretch
+//! runs from the crotch on the midline to the thigh's centre) to the ankle.
+//! A limb cut whose loop is larger than `max_loop_area_ratio` times the
+//! part's own slice area there (the other thigh or the trunk was caught)
+//! moves distally by 2 % of the part until it is the limb's own loop.
 //! | upper arm | upper arm circumference | ⟂ arm axis at 28 % of shoulder→wrist (midway shoulder-elbow) |
 //! | elbow | elbow circumference | ⟂ arm axis at 56 % of shoulder→wrist |
 //! | forearm | forearm circumference | ⟂ arm axis, largest equivalent radius between 62 % and 80 % of shoulder→wrist |
@@ -203,6 +210,9 @@ pub struct Girth {
     pub plane: Plane,
     /// The fitted curve of the section loop.
     pub curve: TrigCurve,
+    /// The least-squares ellipse of the same loop (the paper's baseline),
+    /// when it could be fitted.
+    pub ellipse: Option<TrigCurve>,
     /// The input's section loop (mesh polygon).
     pub outline: Vec<Point3>,
     /// The curve's perimeter `∫|P'(v)| dv`.
@@ -315,7 +325,7 @@ pub const GIRTHS: [GirthDefinition; 12] = [
     GirthDefinition {
         name: "neck",
         iso: Some("neck circumference"),
-        definition: "perpendicular to the head/neck axis at the neck landmark (the smallest convex-hull girth between the armpits and the head)",
+        definition: "horizontal at the neck landmark (the smallest horizontal convex-hull girth between the armpits and the head)",
         place: GirthPlace::Neck,
     },
     GirthDefinition {
@@ -339,13 +349,13 @@ pub const GIRTHS: [GirthDefinition; 12] = [
     GirthDefinition {
         name: "thigh",
         iso: Some("thigh circumference"),
-        definition: "perpendicular to the leg axis at 10 % of its length below the crotch (just below the gluteal fold)",
+        definition: "perpendicular to the leg axis at 10 % of its length from 0.03 H below the crotch to the ankle (just below the gluteal fold); moved down while the loop holds both thighs",
         place: GirthPlace::Leg(LimbPlace::At(0.1)),
     },
     GirthDefinition {
         name: "knee",
         iso: Some("knee circumference"),
-        definition: "perpendicular to the leg axis at 45 % of its length (crotch to ankle)",
+        definition: "perpendicular to the leg axis at 45 % of its length (0.03 H below the crotch to the ankle)",
         place: GirthPlace::Leg(LimbPlace::At(0.45)),
     },
     GirthDefinition {
@@ -766,6 +776,7 @@ fn girth_at(
         plane,
         perimeter: fit.curve.perimeter(),
         tape: tape_girth(&fit.curve),
+        ellipse: fit.ellipse_curve(),
         curve: fit.curve,
         mesh_perimeter: polygon_perimeter(&poly),
         mesh_tape: polygon_tape_girth(&poly),

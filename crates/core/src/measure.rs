@@ -447,9 +447,22 @@ pub fn measure_mesh(mesh: &Mesh, opts: &MeasureOptions) -> Result<Measurements, 
         girth: None,
     });
 
-    let torso = TorsoLevels::find(mesh, &seg, &slicer, opts)?;
+    // Chest, waist and hip need the crotch and an armpit; without them the
+    // other measurements are still taken, with a warning.
+    let torso = match TorsoLevels::find(&seg, &slicer, opts) {
+        Ok(t) => Some(t),
+        Err(e @ (MeasureError::MissingPart { .. } | MeasureError::MissingLandmark { .. })) => {
+            warnings.push(format!("chest, waist, hip: {e}"));
+            None
+        }
+        Err(e) => return Err(e),
+    };
     for def in GIRTHS.iter() {
-        match girth_at(mesh, &seg, &slicer, &torso, def, opts) {
+        let result = match (def.place, &torso) {
+            (GirthPlace::Torso(_), None) => continue,
+            (_, torso) => girth_at(mesh, &seg, &slicer, torso.as_ref(), def, opts),
+        };
+        match result {
             Ok(g) => measurements.push(Measurement {
                 name: def.name,
                 kind: MeasurementKind::Girth,
@@ -532,7 +545,6 @@ struct TorsoLevels {
 
 impl TorsoLevels {
     fn find(
-        _mesh: &Mesh,
         seg: &Segmentation,
         slicer: &MeshSlicer<'_>,
         opts: &MeasureOptions,
@@ -701,7 +713,7 @@ fn girth_at(
     mesh: &Mesh,
     seg: &Segmentation,
     slicer: &MeshSlicer<'_>,
-    torso: &TorsoLevels,
+    torso: Option<&TorsoLevels>,
     def: &GirthDefinition,
     opts: &MeasureOptions,
 ) -> Result<Girth, MeasureError> {
@@ -717,6 +729,10 @@ fn girth_at(
             let axis = seg
                 .part(PartName::Torso)
                 .ok_or(missing_part(PartName::Torso))?;
+            let torso = torso.ok_or(MeasureError::MissingPart {
+                measurement: name,
+                part: PartName::Torso,
+            })?;
             let offset = match level {
                 TorsoLevel::Chest => torso.chest,
                 TorsoLevel::Waist => torso.waist,
@@ -1057,5 +1073,47 @@ mod tests {
         );
         assert!((s.volume / v - 1.0).abs() < 2e-3);
         assert!((s.area / a - 1.0).abs() < 5e-3);
+    }
+}
+
+#[cfg(test)]
+mod stick_body_tests {
+    use super::*;
+    use crate::shapes;
+
+    /// The synthetic stick body (overlapping cylinders, arms against the
+    /// trunk: no armpits): the torso girths are reported missing with a
+    /// warning, the volume of the stack still matches the mesh's, and
+    /// nothing panics.
+    #[test]
+    fn a_body_without_armpits_is_measured_with_warnings() {
+        let body = shapes::stick_body(2);
+        let m = match measure_mesh(&body, &MeasureOptions::default()) {
+            Ok(m) => m,
+            // A body the segmentation rejects is a typed error, not a panic.
+            Err(e) => {
+                assert!(matches!(e, MeasureError::Segment(_)), "{e}");
+                return;
+            }
+        };
+        assert!(m.get("chest").is_none());
+        assert!(!m.warnings.is_empty());
+        assert!(m.get("stature").is_some());
+    }
+
+    #[test]
+    fn bad_options_are_typed_errors() {
+        let body = shapes::stick_body(1);
+        let opts = MeasureOptions {
+            volume_levels: 2,
+            ..MeasureOptions::default()
+        };
+        assert!(matches!(
+            measure_mesh(&body, &opts),
+            Err(MeasureError::BadOption {
+                name: "volume_levels",
+                ..
+            })
+        ));
     }
 }

@@ -71,9 +71,6 @@ fn girths_volume_and_area_agree_with_the_mesh_on_every_shared_body() {
             }
         }
         assert!(m.volume.relative_difference().abs() <= 0.01, "{name}");
-        // The surface area of the stack of horizontal curves is reported,
-        // not asserted: it is 9-12 % above the mesh's (see docs/measure.md);
-        // the 2 % check belongs to the tessellated body model (issue 5).
-        assert!(m.surface_area.relative_difference().abs() <= 0.15, "{name}");
+        assert!(m.surface_area.relative_difference().abs() <= 0.02, "{name}");
     }
 }

@@ -51,7 +51,7 @@ fn girths_volume_and_area_agree_with_the_mesh_on_every_shared_body() {
             m.surface_area.model,
             m.surface_area.mesh,
             100.0 * m.surface_area.relative_difference(),
-            m.slice_curves
+            m.slice_curves.len()
         );
         let girths = m
             .measurements

@@ -44,8 +44,9 @@ pub struct PlotSectionsArgs {
     /// Panels per row.
     #[arg(long, default_value_t = 3)]
     pub columns: usize,
-    /// Size of one panel in pixels.
-    #[arg(long, default_value_t = 360)]
+    /// Size of one panel in pixels (below about 400 the legend covers the
+    /// top of the loops).
+    #[arg(long, default_value_t = 420)]
     pub panel_size: u32,
     /// The file's up axis (x, -x, y, -y, z, -z, or keep).
     #[arg(long, default_value = "keep")]

@@ -14,7 +14,7 @@ use std::path::Path;
 use trigbody_core::measure::{measure_mesh, MeasureOptions, Measurements};
 use trigbody_core::{tessellate_part, Mesh, TessellationOptions};
 use trigbody_io::model::read_model;
-use trigbody_io::ReadOptions;
+use trigbody_io::{Geometry, ReadOptions};
 
 /// Whether a path names a model file (`.json`).
 pub fn is_model_file(path: &Path) -> bool {
@@ -65,6 +65,16 @@ pub fn measurements(
             path.display()
         )));
     }
-    let mesh = trigbody_io::read_mesh(path, read).map_err(bad)?;
+    let mesh = match trigbody_io::read_geometry(path, read).map_err(bad)? {
+        Geometry::Mesh(mesh) => mesh,
+        // The plug-in point for scans: reconstruct, then measure the body.
+        Geometry::Points(_) => {
+            return Err(bad(format!(
+                "{}: a point cloud (scan) is measured once `trigbody reconstruct` has turned it \
+                 into a body model; for now give a closed mesh (.obj, .ply with faces, .stl)",
+                path.display()
+            )))
+        }
+    };
     measure_mesh(&mesh, opts).map_err(|e| bad(format!("{}: {e}", path.display())))
 }

@@ -504,7 +504,7 @@ pub fn measure_mesh(mesh: &Mesh, opts: &MeasureOptions) -> Result<Measurements, 
     }
     match arm_side(&seg) {
         Some((arm, shoulder, wrist)) => {
-            let (a, b) = (arm_fraction(arm, shoulder), arm_fraction(arm, wrist));
+            let (a, b) = (axis_fraction(arm, shoulder), axis_fraction(arm, wrist));
             measurements.push(Measurement {
                 name: "arm length",
                 kind: MeasurementKind::Length,
@@ -658,7 +658,7 @@ fn torso_point(torso: &PartAxis, up: Vec3, level: Real) -> Point3 {
 }
 
 /// The arc-length fraction of the axis point nearest to `p`.
-fn arm_fraction(axis: &PartAxis, p: Point3) -> Real {
+fn axis_fraction(axis: &PartAxis, p: Point3) -> Real {
     let total = axis.length();
     if total <= 0.0 {
         return 0.0;
@@ -804,8 +804,8 @@ fn girth_at(
         GirthPlace::Arm(place) => {
             let (axis, shoulder, wrist) = arm_side(seg).ok_or(missing_part(PartName::LeftArm))?;
             let part = axis.name;
-            let lo = arm_fraction(axis, shoulder);
-            let hi = arm_fraction(axis, wrist);
+            let lo = axis_fraction(axis, shoulder);
+            let hi = axis_fraction(axis, wrist);
             let t = limb_fraction(axis, place, lo, hi, hi);
             own_loop_cut(body, seg, part, axis, t, opts)?
         }

@@ -6,9 +6,12 @@ use crate::exit::{bad, print};
 use anyhow::Result;
 use clap::Args;
 use std::path::{Path, PathBuf};
+use trigbody_core::distance::MeshDistance;
 use trigbody_core::Mesh;
 use trigbody_io::{ReadOptions, UpAxis};
-use trigbody_render::{render_mesh, RenderError, RenderOptions, View};
+use trigbody_render::{
+    render_mesh, render_mesh_values, RenderError, RenderOptions, VertexValues, View,
+};
 
 /// Flags of `trigbody render`; each maps onto one field of
 /// [`RenderOptions`] or [`ReadOptions`].
@@ -33,6 +36,18 @@ pub struct RenderArgs {
     /// Samples per pixel along each axis (1-4; 2 smooths the edges).
     #[arg(long, default_value_t = 2)]
     pub supersample: u32,
+    /// Colour the drawn surface by its distance to this input mesh (each
+    /// vertex to the closest point of the input), with a colour bar in mm.
+    #[arg(long)]
+    pub compare: Option<PathBuf>,
+    /// Millimetres per input unit, for --compare (1000: the input is in
+    /// metres).
+    #[arg(long, default_value_t = 1000.0)]
+    pub mm_per_unit: f64,
+    /// Top of the colour bar in mm for --compare (default: the 99th
+    /// percentile of the distances, at least 1 mm).
+    #[arg(long)]
+    pub max_mm: Option<f64>,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
@@ -54,7 +69,27 @@ pub fn run(args: RenderArgs) -> Result<()> {
         supersample: args.supersample,
         ..RenderOptions::default()
     };
-    let render = render_mesh(&mesh, &options).map_err(|e| render_failure(&args.input, e))?;
+    let render = match &args.compare {
+        None => render_mesh(&mesh, &options),
+        Some(reference) => {
+            if !(args.mm_per_unit.is_finite() && args.mm_per_unit > 0.0) {
+                return Err(bad(format!(
+                    "--mm-per-unit: must be positive, not {}",
+                    args.mm_per_unit
+                )));
+            }
+            let target = load_mesh(reference, &read)?;
+            let mm: Vec<f64> = distances_mm(&mesh, &target, args.mm_per_unit);
+            let top = match args.max_mm {
+                Some(t) if t.is_finite() && t > 0.0 => t,
+                Some(t) => return Err(bad(format!("--max-mm: must be positive, not {t}"))),
+                None => percentile(&mm, 0.99).max(1.0),
+            };
+            let field = VertexValues::new(&mm, (0.0, top), "distance to input (mm)");
+            render_mesh_values(&mesh, &field, &options)
+        }
+    }
+    .map_err(|e| render_failure(&args.input, e))?;
     let png = render
         .image
         .to_png()
@@ -70,18 +105,11 @@ pub fn run(args: RenderArgs) -> Result<()> {
     ))
 }
 
-/// Every kind of input becomes the one [`Mesh`] that is drawn, here and
-/// only here: mesh files are read by trigbody-io; model files (`.json`) will
-/// be tessellated here when the model format lands.
+/// Every kind of input becomes the one [`Mesh`] that is drawn, in
+/// [`crate::body_input::drawable_mesh`]: mesh files as read, model files
+/// (`.json`) tessellated.
 pub fn load_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
-    if has_extension(path, "json") {
-        return Err(bad(format!(
-            "{}: model files cannot be rendered yet; give a mesh (.obj, .ply, .stl)",
-            path.display()
-        )));
-    }
-    // The reader's errors name the file, line or element, and the value.
-    trigbody_io::read_mesh(path, read).map_err(bad)
+    crate::body_input::drawable_mesh(path, read)
 }
 
 fn has_extension(path: &Path, ext: &str) -> bool {
@@ -106,4 +134,27 @@ fn render_failure(input: &Path, e: RenderError) -> anyhow::Error {
         } => bad(format!("--supersample: {e}")),
         _ => bad(format!("{}: {e}", input.display())),
     }
+}
+
+/// The distance in mm from each vertex of `mesh` to the closest point of
+/// `target` (NaN where none is found: drawn grey).
+fn distances_mm(mesh: &Mesh, target: &Mesh, mm_per_unit: f64) -> Vec<f64> {
+    let bvh = MeshDistance::new(target);
+    mesh.positions
+        .iter()
+        .map(|&p| {
+            bvh.closest(p)
+                .map_or(f64::NAN, |c| c.distance * mm_per_unit)
+        })
+        .collect()
+}
+
+/// The `q`-quantile of the finite values (0 when there are none).
+fn percentile(values: &[f64], q: f64) -> f64 {
+    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[((v.len() - 1) as f64 * q).round() as usize]
 }

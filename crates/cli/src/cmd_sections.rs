@@ -3,6 +3,7 @@
 
 use crate::cmd_fit::{image_format, parse_vec3, write_output, FitFlags};
 use crate::exit::{bad, print};
+use crate::panels::{across, loops_panel, LoopDrawing};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use serde_json::{json, Value};
@@ -306,23 +307,6 @@ fn loop_json(l: &CutLoop, fit: &LoopFit) -> Value {
     j
 }
 
-/// Two unit vectors across `axis`: the first is the coordinate axis least
-/// aligned with it (x for a y axis: a front view of a y-up body), projected;
-/// the second completes a right-handed frame.
-fn across(axis: Vec3) -> (Vec3, Vec3) {
-    let n = axis.normalized().unwrap_or(Vec3::Y);
-    let a = [n.x.abs(), n.y.abs(), n.z.abs()];
-    let helper = if a[0] <= a[1] && a[0] <= a[2] {
-        Vec3::X
-    } else if a[1] <= a[2] {
-        Vec3::Y
-    } else {
-        Vec3::Z
-    };
-    let u = (helper - n * helper.dot(n)).normalized().unwrap_or(Vec3::X);
-    (u, n.cross(u))
-}
-
 /// The plot of `trigbody sections`: an overview with every loop over the
 /// input's outline seen from the side, then up to `detail` levels with their
 /// points, trig fits and ellipses in the cutting plane.
@@ -336,7 +320,6 @@ fn section_panels(
     let (u, w) = across(axis);
     let up = axis.normalized().unwrap_or(Vec3::Y);
     let side = |p: Point3| Vec2::new(p.dot(u), p.dot(up));
-    let top = |p: Point3| Vec2::new(p.dot(u), p.dot(w));
     let stride = outline.len().div_ceil(20_000).max(1);
     let mut overview = Panel {
         title: format!("{name}: {} levels", fitted.len()),
@@ -370,36 +353,16 @@ fn section_panels(
     };
     for k in picks {
         let (offset, loops) = &fitted[k];
-        let mut panel = Panel {
-            title: format!("offset {offset:.4}: {} loop(s)", loops.len()),
-            points_label: "section points".into(),
-            ..Panel::default()
-        };
-        for (i, (points, fit)) in loops.iter().enumerate() {
-            panel.points.extend(points.iter().map(|p| top(*p)));
-            panel.curves.push(Curve2 {
-                label: if i == 0 {
-                    "trig series".into()
-                } else {
-                    String::new()
-                },
-                points: fit.curve.sample(300).into_iter().map(top).collect(),
-                color: (20, 150, 40),
-                closed: true,
-            });
-            if let Some(e) = fit.ellipse_curve() {
-                panel.curves.push(Curve2 {
-                    label: if i == 0 {
-                        "ellipse".into()
-                    } else {
-                        String::new()
-                    },
-                    points: e.sample(300).into_iter().map(top).collect(),
-                    color: (30, 60, 220),
-                    closed: true,
-                });
-            }
-        }
+        let drawings: Vec<LoopDrawing<'_>> = loops
+            .iter()
+            .map(|(points, fit)| LoopDrawing {
+                points,
+                curve: &fit.curve,
+                ellipse: fit.ellipse_curve(),
+            })
+            .collect();
+        let title = format!("offset {offset:.4}: {} loop(s)", loops.len());
+        let panel = loops_panel(title, &drawings, u, w);
         panels.push(panel);
     }
     panels

@@ -4,14 +4,18 @@
 //! Exit codes: 0 success, 2 bad input or usage (message on stderr naming the
 //! file, line or value), 1 internal failure.
 
+mod body_input;
 mod cmd_fit;
 mod cmd_loft;
+mod cmd_measure;
 mod cmd_mesh;
+mod cmd_plot_sections;
 mod cmd_render;
 mod cmd_scan;
 mod cmd_sections;
 mod examples;
 mod exit;
+mod panels;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -35,8 +39,14 @@ enum Command {
     Loft(cmd_loft::LoftArgs),
     /// Tessellate a model into a mesh (.glb, .obj, .ply, .stl).
     Mesh(cmd_mesh::MeshArgs),
-    /// Draw a mesh shaded from several views side by side (PNG).
+    /// Draw a mesh or model shaded from several views side by side (PNG);
+    /// --compare colours it by its distance to an input mesh.
     Render(cmd_render::RenderArgs),
+    /// Measure a body: stature, girths, lengths, breadth, volume, area.
+    Measure(cmd_measure::MeasureArgs),
+    /// Plot a body's sections at the measurement levels: input points,
+    /// trig fit and ellipse (the paper's Figures 1-2).
+    PlotSections(cmd_plot_sections::PlotSectionsArgs),
     /// Cut a mesh or a scan with parallel planes and fit every loop.
     Sections(cmd_sections::SectionsArgs),
     /// Make a virtual multi-view scan (points with normals) of a mesh.
@@ -58,6 +68,8 @@ fn main() -> ExitCode {
         Command::Loft(args) => cmd_loft::run(args),
         Command::Mesh(args) => cmd_mesh::run(args),
         Command::Render(args) => cmd_render::run(args),
+        Command::Measure(args) => cmd_measure::run(args),
+        Command::PlotSections(args) => cmd_plot_sections::run(args),
         Command::Sections(args) => cmd_sections::run(args),
         Command::Scan(args) => cmd_scan::run(args),
     };

@@ -22,6 +22,7 @@ pub mod girth;
 pub mod linalg;
 pub mod lsq;
 pub mod math;
+pub mod measure;
 pub mod mesh;
 pub mod order;
 pub mod part;
@@ -42,6 +43,9 @@ pub use fit::{
 };
 pub use lsq::FitErrors;
 pub use math::{Point2, Point3, Real, Vec2, Vec3};
+pub use measure::{
+    measure_mesh, MeasureError, MeasureOptions, Measurement, MeasurementKind, Measurements,
+};
 pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
 pub use part::{Part, PartError, PartOptions, Segment, Skinning};
 pub use patch::{EndConditions, Patch, PatchError};

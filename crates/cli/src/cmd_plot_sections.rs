@@ -1,0 +1,110 @@
+//! `trigbody plot-sections MODEL.json|INPUT -o OUT.svg|png`: the paper's
+//! Figures 1-2 for any body — the sections at chosen measurement levels
+//! with the input points, the trigonometric fit and the ellipse.
+
+use crate::body_input::measurements;
+use crate::cmd_fit::{image_format, write_output};
+use crate::exit::{bad, print};
+use crate::panels::{across, loops_panel, LoopDrawing};
+use anyhow::Result;
+use clap::Args;
+use std::path::PathBuf;
+use trigbody_core::measure::MeasureOptions;
+use trigbody_io::{ReadOptions, UpAxis};
+use trigbody_render::{plot_panels, PlotOptions};
+
+/// The levels drawn, most telling first: torso, legs, arms, neck.
+const LEVELS: [&str; 12] = [
+    "chest",
+    "waist",
+    "hip",
+    "thigh",
+    "knee",
+    "calf",
+    "upper arm",
+    "forearm",
+    "neck",
+    "elbow",
+    "ankle",
+    "wrist",
+];
+
+/// Flags of `trigbody plot-sections`.
+#[derive(Debug, Args)]
+pub struct PlotSectionsArgs {
+    /// The body: a closed mesh (.obj, .ply, .stl).
+    pub input: PathBuf,
+    /// The picture to write (.svg or .png).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// How many levels to draw (1-12), in the order chest, waist, hip,
+    /// thigh, knee, calf, upper arm, forearm, neck, elbow, ankle, wrist.
+    #[arg(long, default_value_t = 9)]
+    pub levels: usize,
+    /// Panels per row.
+    #[arg(long, default_value_t = 3)]
+    pub columns: usize,
+    /// Size of one panel in pixels (below about 400 the legend covers the
+    /// top of the loops).
+    #[arg(long, default_value_t = 420)]
+    pub panel_size: u32,
+    /// The file's up axis (x, -x, y, -y, z, -z, or keep).
+    #[arg(long, default_value = "keep")]
+    pub up_axis: UpAxis,
+}
+
+pub fn run(args: PlotSectionsArgs) -> Result<()> {
+    if !(1..=LEVELS.len()).contains(&args.levels) {
+        return Err(bad(format!(
+            "--levels: between 1 and {}, not {}",
+            LEVELS.len(),
+            args.levels
+        )));
+    }
+    if args.columns == 0 {
+        return Err(bad("--columns: at least 1"));
+    }
+    let format = image_format(&args.output)?;
+    let read = ReadOptions {
+        up_axis: args.up_axis,
+        ..ReadOptions::default()
+    };
+    let m = measurements(&args.input, &read, &MeasureOptions::default())?;
+    let mut panels = Vec::new();
+    for name in LEVELS.iter().take(args.levels) {
+        let Some((x, g)) = m.get(name).and_then(|x| x.girth.as_ref().map(|g| (x, g))) else {
+            continue;
+        };
+        let (u, w) = across(g.plane.normal);
+        let drawing = LoopDrawing {
+            points: &g.outline,
+            curve: &g.curve,
+            ellipse: g.ellipse.clone(),
+        };
+        let title = format!(
+            "{}: {:.0} mm, order {}",
+            x.name,
+            1e3 * x.value,
+            g.curve.order()
+        );
+        panels.push(loops_panel(title, &[drawing], u, w));
+    }
+    if panels.is_empty() {
+        return Err(bad(format!(
+            "{}: no girth level could be measured",
+            args.input.display()
+        )));
+    }
+    let options = PlotOptions {
+        panel_size: args.panel_size,
+        columns: Some(args.columns),
+        ..PlotOptions::default()
+    };
+    let bytes = plot_panels(&panels, format, &options)?;
+    write_output(&args.output, &bytes, Some(&args.input))?;
+    print(&format!(
+        "{}: {} section(s)\n",
+        args.output.display(),
+        panels.len()
+    ))
+}

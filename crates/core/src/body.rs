@@ -958,21 +958,26 @@ impl<'a> PointGrid<'a> {
             clamp(c[1], self.dims[1]),
             clamp(c[2], self.dims[2]),
         ];
-        // Distance from p to the clamped cell (p may lie outside the grid).
-        let outside = {
-            let q = self.origin
-                + Vec3::new(
-                    (cc[0] as Real + 0.5) * self.cell,
-                    (cc[1] as Real + 0.5) * self.cell,
-                    (cc[2] as Real + 0.5) * self.cell,
-                );
-            ((p - q).norm() - 0.87 * self.cell).max(0.0)
-        };
+        // Distance from p to its projection q on the grid's box: for x in
+        // the (convex) box, |p - x|² ≥ |p - q|² + |q - x|².
+        let hi = self.origin
+            + Vec3::new(
+                self.dims[0] as Real * self.cell,
+                self.dims[1] as Real * self.cell,
+                self.dims[2] as Real * self.cell,
+            );
+        let q = Vec3::new(
+            p.x.clamp(self.origin.x, hi.x),
+            p.y.clamp(self.origin.y, hi.y),
+            p.z.clamp(self.origin.z, hi.z),
+        );
+        let outside2 = (p - q).norm_squared();
         let maxr = *self.dims.iter().max().unwrap_or(&1) as i64;
         let mut best = Real::INFINITY;
         for r in 0..=maxr {
-            // Every point in shell r is at least (r - 1) cells from p.
-            if best.is_finite() && outside + (r as Real - 1.0) * self.cell > best {
+            // Every point in shell r is at least (r - 1) cells from q.
+            let inner = ((r - 1).max(0) as Real) * self.cell;
+            if best.is_finite() && (outside2 + inner * inner).sqrt() > best {
                 break;
             }
             for dz in -r..=r {

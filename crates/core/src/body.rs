@@ -52,8 +52,8 @@ use crate::mesh::{Mesh, PointCloud};
 use crate::part::{Part, PartError, PartOptions};
 use crate::scan_section::scan_fit_options;
 use crate::segment::{
-    cut_part, segment, BodyFrame, BodyGeometry, LandmarkKind, PartAxis, PartName, SegmentError,
-    SegmentOptions, Segmentation,
+    cut_part_along, segment, BodyFrame, BodyGeometry, LandmarkKind, PartAxis, PartName,
+    SegmentError, SegmentOptions, Segmentation,
 };
 use crate::tessellate::{tessellate_part, TessellateError, TessellationOptions};
 use std::fmt;
@@ -123,6 +123,10 @@ pub struct ReconstructOptions {
     /// shrunk below this fraction of the largest loop beyond the part's
     /// middle (head) or wrist (hand); a dome closes the rest. Default 0.5.
     pub end_area_fraction: Real,
+    /// The foot's sections end where its outline shrinks below this fraction
+    /// of its largest outline below the ankle (the sole curving up at the
+    /// heel and toes); a flat cap closes it. Default 0.75.
+    pub sole_area_fraction: Real,
     /// Height of the lowest foot section above the floor, as a fraction of
     /// the height. Default 0.002.
     pub sole_height: Real,
@@ -131,6 +135,15 @@ pub struct ReconstructOptions {
     pub part: PartOptions,
     /// The input's unit (the report converts to millimetres). Default metres.
     pub units: Units,
+    /// Rounds of adaptive refinement (see [`refine`]). Default 3.
+    pub refine_rounds: usize,
+    /// A section is added where the surface strays farther than this
+    /// fraction of the height from the input halfway between two sections.
+    /// Default 0.0015 (2.6 mm on 1.73 m).
+    pub refine_tolerance: Real,
+    /// Sections are never added closer than this fraction of the height.
+    /// Default 0.002.
+    pub min_spacing: Real,
     /// Points sampled on each surface for the distances. Default 60 000.
     pub report_samples: usize,
     /// Tessellation edge length for the measured model surface, as a
@@ -150,8 +163,12 @@ impl Default for ReconstructOptions {
             foot_spacing: 0.004,
             end_area_fraction: 0.5,
             sole_height: 0.002,
+            sole_area_fraction: 0.75,
             part: PartOptions::default(),
             units: Units::Metres,
+            refine_rounds: 3,
+            refine_tolerance: 0.0015,
+            min_spacing: 0.002,
             report_samples: 60_000,
             report_edge: 0.003,
             coverage_mm: 5.0,
@@ -366,7 +383,10 @@ fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
     pos("foot_spacing", o.foot_spacing)?;
     pos("end_area_fraction", o.end_area_fraction)?;
     pos("sole_height", o.sole_height)?;
+    pos("sole_area_fraction", o.sole_area_fraction)?;
     pos("report_edge", o.report_edge)?;
+    pos("refine_tolerance", o.refine_tolerance)?;
+    pos("min_spacing", o.min_spacing)?;
     pos("coverage_mm", o.coverage_mm)?;
     if o.spacing > 0.2 || o.foot_spacing > 0.2 {
         return Err(ReconstructError::BadOption {
@@ -393,7 +413,15 @@ fn cut_and_fit(
     at: Real,
     opts: &ReconstructOptions,
 ) -> Result<Cut, String> {
-    let cut = cut_part(body, seg, name, at, &opts.segment).map_err(|e| e.to_string())?;
+    // Torso, head and legs (with the feet) are cut across the body's up
+    // axis: parallel planes never cross, and a horizontal cut below the
+    // ankle is the foot's outline. Arms are cut across their own axis.
+    let normal = match name {
+        PartName::LeftArm | PartName::RightArm => None,
+        _ => Some(seg.frame.up),
+    };
+    let cut = cut_part_along(body, seg, name, at, normal, true, &opts.segment)
+        .map_err(|e| e.to_string())?;
     let base = FitOptions {
         reference: Some(seg.frame.front),
         normal: Some(cut.plane.normal),
@@ -529,6 +557,32 @@ fn extend_to_floor(axis: &PartAxis, up: Vec3, floor: Real, lift: Real, step: Rea
     a
 }
 
+/// The first arc-length fraction where the axis reaches `level` along `up`
+/// (going up when `rising`, down otherwise); 0 when it starts beyond it.
+fn fraction_at_level(axis: &PartAxis, up: Vec3, level: Real, rising: bool) -> Real {
+    let total = axis.length();
+    if !(total > 0.0) {
+        return 0.0;
+    }
+    let beyond = |p: &Point3| {
+        if rising {
+            p.dot(up) >= level
+        } else {
+            p.dot(up) <= level
+        }
+    };
+    let mut acc = 0.0;
+    for (k, p) in axis.points.iter().enumerate() {
+        if k > 0 {
+            acc += axis.points[k - 1].distance(*p);
+        }
+        if beyond(p) {
+            return (acc / total).min(0.5);
+        }
+    }
+    0.0
+}
+
 fn landmark(seg: &Segmentation, kind: LandmarkKind) -> Option<Point3> {
     seg.landmark(kind).map(|l| l.position)
 }
@@ -539,7 +593,7 @@ fn build_part(
     plan: Plan,
     opts: &ReconstructOptions,
     warnings: &mut Vec<String>,
-) -> Result<BodyPart, ReconstructError> {
+) -> Result<(BodyPart, Vec<Cut>), ReconstructError> {
     let Plan {
         name,
         mut cuts,
@@ -586,7 +640,7 @@ fn build_part(
                         ellipse: c.fit.ellipse.as_ref().map(|e| (e.errors.ea, e.errors.em)),
                     })
                     .collect();
-                return Ok(BodyPart { name, part, fits });
+                return Ok((BodyPart { name, part, fits }, cuts));
             }
             Err(PartError::CrossingPlanes { index, .. })
             | Err(PartError::CoincidentSections { index }) => {
@@ -642,6 +696,10 @@ pub fn reconstruct_with_progress(
         }
     }
 
+    // Horizontal cuts at the crotch itself meet both legs or their merged
+    // loop: the torso starts a little above it and the legs a little below.
+    let crotch_level = landmark(&seg, LandmarkKind::Crotch).map_or(floor + 0.47 * h, |c| c.dot(up));
+    let margin = 1.5 * seg.slice_spacing;
     let mut plans = Vec::new();
     for name in [
         PartName::Torso,
@@ -669,7 +727,11 @@ pub fn reconstruct_with_progress(
                     body,
                     &seg,
                     name,
-                    &fractions(0.0, 1.0, step),
+                    &fractions(
+                        fraction_at_level(axis, up, crotch_level + margin, true),
+                        1.0,
+                        step,
+                    ),
                     opts,
                     &mut warnings,
                 ),
@@ -733,13 +795,36 @@ pub fn reconstruct_with_progress(
                     .map(|a| fraction_of(axis, a))
                     .unwrap_or(orig / len)
                     .min(orig / len);
-                let upper = (ankle - 0.02 * h / len).max(0.0);
-                let mut ts = fractions(0.0, upper, step);
-                ts.pop();
-                ts.extend(fractions(upper, 1.0, opts.foot_spacing * h / len));
+                let t0 = fraction_at_level(axis, up, crotch_level - margin, false);
+                let upper = (ankle - 0.02 * h / len).max(t0);
+                let mut cuts = cut_all(
+                    body,
+                    &seg,
+                    name,
+                    &fractions(t0, upper, step),
+                    opts,
+                    &mut warnings,
+                );
+                cuts.pop();
+                // Below the ankle: horizontal outlines of the foot until
+                // they shrink where the sole curves up (heel, toes).
+                let foot = ReconstructOptions {
+                    end_area_fraction: opts.sole_area_fraction,
+                    ..*opts
+                };
+                cuts.extend(cut_to_rounded_end(
+                    body,
+                    &seg,
+                    name,
+                    upper,
+                    ankle,
+                    opts.foot_spacing * h / len,
+                    &foot,
+                    &mut warnings,
+                ));
                 Plan {
                     name,
-                    cuts: cut_all(body, &seg, name, &ts, opts, &mut warnings),
+                    cuts,
                     start_cap: CapKind::Open,
                     end_cap: CapKind::Flat,
                     tip: None,
@@ -753,7 +838,8 @@ pub fn reconstruct_with_progress(
     let mut parts = Vec::new();
     for plan in plans {
         let name = plan.name;
-        match build_part(plan, opts, &mut warnings) {
+        progress(&format!("skinning and refining: {name}"));
+        match refine(body, &seg, plan, opts, &mut warnings) {
             Ok(p) => parts.push(p),
             Err(e) if name != PartName::Torso => {
                 warnings.push(format!("{name} left out: {e}"));
@@ -770,6 +856,97 @@ pub fn reconstruct_with_progress(
     progress("measuring");
     let report = measure(body, &model, &seg0, opts, warnings)?;
     Ok((model, report))
+}
+
+/// Largest in-plane distance from the loop points of `cut` to `curve`
+/// (sampled densely), both projected into the cut's plane.
+fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
+    let f = &cut.fit.curve.frame;
+    let n = 256;
+    let poly: Vec<(Real, Real)> = (0..n)
+        .map(|i| {
+            let p = curve.point(std::f64::consts::TAU * i as Real / n as Real) - f.origin;
+            (p.dot(f.e1), p.dot(f.e2))
+        })
+        .collect();
+    let mut worst: Real = 0.0;
+    for q in &cut.fit.plane_points {
+        let mut best = Real::INFINITY;
+        for i in 0..n {
+            let (ax, ay) = poly[i];
+            let (bx, by) = poly[(i + 1) % n];
+            let (dx, dy) = (bx - ax, by - ay);
+            let l2 = dx * dx + dy * dy;
+            let t = if l2 > 0.0 {
+                (((q.x - ax) * dx + (q.y - ay) * dy) / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let (ex, ey) = (ax + t * dx - q.x, ay + t * dy - q.y);
+            best = best.min((ex * ex + ey * ey).sqrt());
+        }
+        worst = worst.max(best);
+    }
+    worst
+}
+
+/// Adaptive spacing (method.md §8.6): builds the part, then between every
+/// two consecutive sections cuts the input halfway and compares that loop
+/// with the surface's curve halfway between the sections (patch parameter
+/// `u = ½`, both in the new cut's plane). Where the surface strays more
+/// than [`ReconstructOptions::refine_tolerance`] × `H` from the input, the
+/// new section is added; repeated for [`ReconstructOptions::refine_rounds`]
+/// rounds, never closer than [`ReconstructOptions::min_spacing`] × `H`.
+fn refine(
+    body: BodyGeometry<'_>,
+    seg: &Segmentation,
+    plan: Plan,
+    opts: &ReconstructOptions,
+    warnings: &mut Vec<String>,
+) -> Result<BodyPart, ReconstructError> {
+    let name = plan.name;
+    let (start_cap, end_cap, tip) = (plan.start_cap, plan.end_cap, plan.tip);
+    let (mut built, mut cuts) = build_part(plan, opts, warnings)?;
+    let len = seg.part(name).map_or(0.0, PartAxis::length);
+    if !(len > 0.0) {
+        return Ok(built);
+    }
+    let min_step = opts.min_spacing * seg.height / len;
+    let tol = opts.refine_tolerance * seg.height;
+    for _ in 0..opts.refine_rounds {
+        let segments = built.part.segments();
+        if segments.len() + 1 != cuts.len() {
+            break; // only for the one-patch-per-interval schemes
+        }
+        let mut added = Vec::new();
+        for i in 0..cuts.len() - 1 {
+            let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
+            if t1 - t0 < 2.0 * min_step {
+                continue;
+            }
+            let tm = 0.5 * (t0 + t1);
+            let Ok(c) = cut_and_fit(body, seg, name, tm, opts) else {
+                continue;
+            };
+            if stray(&c, &segments[i].patch.curve_at(0.5)) > tol {
+                added.push(c);
+            }
+        }
+        if added.is_empty() {
+            break;
+        }
+        let mut all: Vec<Cut> = cuts.into_iter().chain(added).collect();
+        all.sort_by(|a, b| a.at.total_cmp(&b.at));
+        let plan = Plan {
+            name,
+            cuts: all,
+            start_cap,
+            end_cap,
+            tip,
+        };
+        (built, cuts) = build_part(plan, opts, warnings)?;
+    }
+    Ok(built)
 }
 
 /// The per-part numbers of a body.

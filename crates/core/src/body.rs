@@ -135,6 +135,10 @@ pub struct ReconstructOptions {
     pub part: PartOptions,
     /// The input's unit (the report converts to millimetres). Default metres.
     pub units: Units,
+    /// Scan loops carry the scanner's noise (about 1 mm, several per cent of
+    /// an arm's radius), which no order should reproduce: their tolerances
+    /// are `E_a`, `E_M` times this factor. Default 2.
+    pub scan_tolerance_factor: Real,
     /// Rounds of adaptive refinement (see [`refine`]). Default 3.
     pub refine_rounds: usize,
     /// A section is added where the surface strays farther than this
@@ -166,6 +170,7 @@ impl Default for ReconstructOptions {
             sole_area_fraction: 0.75,
             part: PartOptions::default(),
             units: Units::Metres,
+            scan_tolerance_factor: 2.0,
             refine_rounds: 3,
             refine_tolerance: 0.0015,
             min_spacing: 0.002,
@@ -387,6 +392,7 @@ fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
     pos("report_edge", o.report_edge)?;
     pos("refine_tolerance", o.refine_tolerance)?;
     pos("min_spacing", o.min_spacing)?;
+    pos("scan_tolerance_factor", o.scan_tolerance_factor)?;
     pos("coverage_mm", o.coverage_mm)?;
     if o.spacing > 0.2 || o.foot_spacing > 0.2 {
         return Err(ReconstructError::BadOption {
@@ -429,7 +435,11 @@ fn cut_and_fit(
         ..opts.fit
     };
     let fo = match body {
-        BodyGeometry::Cloud(_) => scan_fit_options(&base),
+        BodyGeometry::Cloud(_) => scan_fit_options(&FitOptions {
+            ea: base.ea * opts.scan_tolerance_factor,
+            em: base.em * opts.scan_tolerance_factor,
+            ..base
+        }),
         BodyGeometry::Mesh(_) => base,
     };
     let fit = fit_loop(&cut.outline.points, &fo).map_err(|e| e.to_string())?;
@@ -858,8 +868,10 @@ pub fn reconstruct_with_progress(
     Ok((model, report))
 }
 
-/// Largest in-plane distance from the loop points of `cut` to `curve`
-/// (sampled densely), both projected into the cut's plane.
+/// The 90th percentile of the in-plane distances from the loop points of
+/// `cut` to `curve` (sampled densely), both projected into the cut's plane
+/// (a percentile, not the maximum: a scan loop's noise and stray points
+/// must not call for sections everywhere).
 fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
     let f = &cut.fit.curve.frame;
     let n = 256;
@@ -869,7 +881,7 @@ fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
             (p.dot(f.e1), p.dot(f.e2))
         })
         .collect();
-    let mut worst: Real = 0.0;
+    let mut all = Vec::with_capacity(cut.fit.plane_points.len());
     for q in &cut.fit.plane_points {
         let mut best = Real::INFINITY;
         for i in 0..n {
@@ -885,9 +897,58 @@ fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
             let (ex, ey) = (ax + t * dx - q.x, ay + t * dy - q.y);
             best = best.min((ex * ex + ey * ey).sqrt());
         }
-        worst = worst.max(best);
+        all.push(best);
     }
-    worst
+    if all.is_empty() {
+        return 0.0;
+    }
+    all.sort_by(Real::total_cmp);
+    all[(all.len() * 9 / 10).min(all.len() - 1)]
+}
+
+/// A fit far outside its tolerances (three times either): a loop the
+/// section picked wrongly or a hole the fit could not bridge.
+fn wild(c: &Cut, opts: &ReconstructOptions) -> bool {
+    !c.fit.met
+        && (c.fit.errors.ea > 3.0 * opts.fit.ea * opts.scan_tolerance_factor
+            || c.fit.errors.em > 3.0 * opts.fit.em * opts.scan_tolerance_factor)
+}
+
+/// Drops sections whose loop is implausible: area outside `[½, 2]` times
+/// the median of its (up to four) nearest neighbours' — a wrong loop
+/// picked where a scan's slab broke up (armpits, fingers) — or a wild fit
+/// (see [`wild`]).
+fn drop_outliers(mut plan: Plan, opts: &ReconstructOptions, warnings: &mut Vec<String>) -> Plan {
+    let n = plan.cuts.len();
+    if n < 3 {
+        return plan;
+    }
+    let keep: Vec<bool> = (0..n)
+        .map(|i| {
+            let mut near: Vec<Real> = (i.saturating_sub(2)..(i + 3).min(n))
+                .filter(|&j| j != i)
+                .map(|j| plan.cuts[j].area)
+                .collect();
+            near.sort_by(Real::total_cmp);
+            let med = near[near.len() / 2];
+            let a = plan.cuts[i].area;
+            a >= 0.5 * med && a <= 2.0 * med && !wild(&plan.cuts[i], opts)
+        })
+        .collect();
+    let name = plan.name;
+    let mut k = 0;
+    plan.cuts.retain(|c| {
+        let ok = keep[k];
+        k += 1;
+        if !ok {
+            warnings.push(format!(
+                "{name}: section at {:.3} dropped (area {:.3e} unlike its neighbours', or E_a {:.3} / E_M {:.3} far beyond the tolerances)",
+                c.at, c.area, c.fit.errors.ea, c.fit.errors.em
+            ));
+        }
+        ok
+    });
+    plan
 }
 
 /// Adaptive spacing (method.md §8.6): builds the part, then between every
@@ -906,6 +967,7 @@ fn refine(
 ) -> Result<BodyPart, ReconstructError> {
     let name = plan.name;
     let (start_cap, end_cap, tip) = (plan.start_cap, plan.end_cap, plan.tip);
+    let plan = drop_outliers(plan, opts, warnings);
     let (mut built, mut cuts) = build_part(plan, opts, warnings)?;
     let len = seg.part(name).map_or(0.0, PartAxis::length);
     if !(len > 0.0) {
@@ -928,7 +990,10 @@ fn refine(
             let Ok(c) = cut_and_fit(body, seg, name, tm, opts) else {
                 continue;
             };
-            if stray(&c, &segments[i].patch.curve_at(0.5)) > tol {
+            let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
+            let plausible =
+                c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
+            if plausible && stray(&c, &segments[i].patch.curve_at(0.5)) > tol {
                 added.push(c);
             }
         }

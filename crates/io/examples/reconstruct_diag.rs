@@ -5,26 +5,46 @@
 //! cargo run --release -p trigbody-io --example reconstruct_diag BODY
 //! ```
 
+use trigbody_core::body::PointGrid;
 use trigbody_core::body::{reconstruct, ReconstructOptions};
 use trigbody_core::distance::{sample_surface, DistanceStats, MeshDistance};
+use trigbody_core::scanner::{virtual_scan, ScannerOptions};
 use trigbody_core::segment::BodyGeometry;
 use trigbody_core::{tessellate_part, TessellationOptions};
-use trigbody_io::{read_mesh, ReadOptions};
+use trigbody_io::{read_geometry, Geometry, ReadOptions};
 
 fn main() {
     let Some(path) = std::env::args().nth(1) else {
         eprintln!("usage: reconstruct_diag BODY");
         return;
     };
-    let mesh = match read_mesh(&path, &ReadOptions::default()) {
+    let geometry = match read_geometry(&path, &ReadOptions::default()) {
         Ok(m) => m,
         Err(e) => {
             eprintln!("{e}");
             return;
         }
     };
+    let scan = std::env::var("SCAN").is_ok();
+    let (mesh, cloud) = match geometry {
+        Geometry::Mesh(m) => {
+            let c = if scan {
+                virtual_scan(&m, &ScannerOptions::default())
+                    .ok()
+                    .map(|s| s.cloud)
+            } else {
+                None
+            };
+            (m, c)
+        }
+        Geometry::Points(c) => (trigbody_core::Mesh::default(), Some(c)),
+    };
     let opts = ReconstructOptions::default();
-    let (body, _) = match reconstruct(BodyGeometry::Mesh(&mesh), &opts) {
+    let input_geo = match &cloud {
+        Some(c) => BodyGeometry::Cloud(c),
+        None => BodyGeometry::Mesh(&mesh),
+    };
+    let (body, _) = match reconstruct(input_geo, &opts) {
         Ok(x) => x,
         Err(e) => {
             eprintln!("{e}");
@@ -42,7 +62,10 @@ fn main() {
     let up = body.frame.up;
     let left = body.frame.left;
     let floor = body.frame.origin.dot(up);
-    let samples = sample_surface(&mesh, 60_000);
+    let samples = match &cloud {
+        Some(c) => c.positions.iter().step_by(4).copied().collect(),
+        None => sample_surface(&mesh, 60_000),
+    };
     let mut bins = vec![(0usize, 0usize); 20];
     let mut lat = vec![(0usize, 0usize); 20];
     for p in &samples {
@@ -88,12 +111,22 @@ fn main() {
         }
     }
     let input = MeshDistance::new(&mesh);
+    let grid = cloud
+        .as_ref()
+        .map(|c| PointGrid::new(&c.positions, 0.01 * body.height));
     for p in &body.parts {
         let Ok(m) = tessellate_part(&p.part, &tess) else {
             continue;
         };
         let pts = sample_surface(&m, 10_000);
-        let d: Vec<f64> = pts.iter().map(|q| input.distance(*q) * 1000.0).collect();
+        let d: Vec<f64> = pts
+            .iter()
+            .map(|q| {
+                grid.as_ref()
+                    .map_or_else(|| input.distance(*q), |g| g.nearest(*q))
+                    * 1000.0
+            })
+            .collect();
         let mut hb = vec![(0usize, 0.0f64); 40];
         for (q, dd) in pts.iter().zip(&d) {
             let f = ((q.dot(up) - floor) / body.height * 40.0).clamp(0.0, 39.0) as usize;

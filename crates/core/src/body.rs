@@ -967,6 +967,8 @@ fn refine(
 ) -> Result<BodyPart, ReconstructError> {
     let name = plan.name;
     let (start_cap, end_cap, tip) = (plan.start_cap, plan.end_cap, plan.tip);
+    // One pass: a second one (for outliers among outliers) dropped real
+    // sections of the base mesh's feet and hands (RMS 3.2 -> 4.6 mm).
     let plan = drop_outliers(plan, opts, warnings);
     let (mut built, mut cuts) = build_part(plan, opts, warnings)?;
     let len = seg.part(name).map_or(0.0, PartAxis::length);

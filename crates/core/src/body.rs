@@ -148,7 +148,8 @@ pub struct ReconstructOptions {
     pub refine_rounds: usize,
     /// A section is added where the surface strays farther than this
     /// fraction of the height from the input halfway between two sections.
-    /// Default 0.0015 (2.6 mm on 1.73 m).
+    /// Default 0.003 (5.2 mm on 1.73 m; measured on the three meshes: 0.0015
+    /// gave the same RMS within 0.05 mm with 6 % more parameters).
     pub refine_tolerance: Real,
     /// Sections are never added closer than this fraction of the height.
     /// Default 0.002.
@@ -177,7 +178,7 @@ impl Default for ReconstructOptions {
             units: Units::Metres,
             scan_tolerance_factor: 2.0,
             refine_rounds: 3,
-            refine_tolerance: 0.0015,
+            refine_tolerance: 0.003,
             min_spacing: 0.002,
             report_samples: 60_000,
             report_edge: 0.003,
@@ -966,7 +967,8 @@ fn drop_outliers(mut plan: Plan, opts: &ReconstructOptions, warnings: &mut Vec<S
 /// two consecutive sections cuts the input halfway and compares that loop
 /// with the surface's curve halfway between the sections (patch parameter
 /// `u = ½`, both in the new cut's plane). Where the surface strays more
-/// than [`ReconstructOptions::refine_tolerance`] × `H` from the input, the
+/// than [`ReconstructOptions::refine_tolerance`] × `H` from the input (the
+/// 90th percentile of the loop points' distances, see [`stray`]), the
 /// new section is added; repeated for [`ReconstructOptions::refine_rounds`]
 /// rounds, never closer than [`ReconstructOptions::min_spacing`] × `H`.
 fn refine(

@@ -61,11 +61,11 @@ fn real_bodies_and_scans_table() {
         let (body, r) = reconstruct(BodyGeometry::Mesh(&mesh), &opts).unwrap();
         print_row(n, &r);
         check_parts(n, &body, &r);
-        // Measured 2.9-3.2 mm, p95 2.6-5.7, coverage 94.7-96.9 %, 22-25 %
+        // Measured 2.9-3.1 mm, p95 2.3-4.8, coverage 95.1-97.3 %, 22-25 %
         // of the polygon parameters.
         assert!(r.distance_mm.rms <= 4.0, "{n}: {:?}", r.distance_mm);
         assert!(r.distance_mm.p95 <= 8.0, "{n}: {:?}", r.distance_mm);
-        assert!(r.coverage >= 0.93, "{n}: {}", r.coverage);
+        assert!(r.coverage >= 0.945, "{n}: {}", r.coverage);
         assert!(r.parameter_ratio() <= 0.26, "{n}: {}", r.parameter_ratio());
         // No buried pieces: the model's own surface stays near the input.
         assert!(

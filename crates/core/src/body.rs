@@ -144,6 +144,10 @@ pub struct ReconstructOptions {
     /// an arm's radius), which no order should reproduce: their tolerances
     /// are `E_a`, `E_M` times this factor. Default 2.
     pub scan_tolerance_factor: Real,
+    /// A section is dropped when a quarter of its curve lies farther than
+    /// this fraction of the height from the input (a wrongly joined scan
+    /// loop). Default 0.006 (1 cm on 1.73 m).
+    pub max_curve_offset: Real,
     /// Rounds of adaptive refinement (see [`refine`]). Default 3.
     pub refine_rounds: usize,
     /// A section is added where the surface strays farther than this
@@ -177,6 +181,7 @@ impl Default for ReconstructOptions {
             part: PartOptions::default(),
             units: Units::Metres,
             scan_tolerance_factor: 2.0,
+            max_curve_offset: 0.006,
             refine_rounds: 3,
             refine_tolerance: 0.003,
             min_spacing: 0.002,
@@ -399,6 +404,7 @@ fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
     pos("refine_tolerance", o.refine_tolerance)?;
     pos("min_spacing", o.min_spacing)?;
     pos("scan_tolerance_factor", o.scan_tolerance_factor)?;
+    pos("max_curve_offset", o.max_curve_offset)?;
     pos("coverage_mm", o.coverage_mm)?;
     if o.spacing > 0.2 || o.foot_spacing > 0.2 {
         return Err(ReconstructError::BadOption {
@@ -864,11 +870,15 @@ pub fn reconstruct_with_progress(
     }
 
     progress("skinning");
+    let input = match body {
+        BodyGeometry::Mesh(m) => InputDistance::Mesh(MeshDistance::new(m)),
+        BodyGeometry::Cloud(c) => InputDistance::Cloud(PointGrid::new(&c.positions, 0.01 * h)),
+    };
     let mut parts = Vec::new();
     for plan in plans {
         let name = plan.name;
         progress(&format!("skinning and refining: {name}"));
-        match refine(body, &seg, plan, opts, &mut warnings) {
+        match refine(body, &seg, plan, opts, &input, &mut warnings) {
             Ok(p) => parts.push(p),
             Err(e) if name != PartName::Torso => {
                 warnings.push(format!("{name} left out: {e}"));
@@ -885,6 +895,36 @@ pub fn reconstruct_with_progress(
     progress("measuring");
     let report = measure(body, &model, &seg0, opts, warnings)?;
     Ok((model, report))
+}
+
+/// Distances to the input: its surface (mesh) or its nearest point (cloud).
+enum InputDistance<'a> {
+    Mesh(MeshDistance<'a>),
+    Cloud(PointGrid<'a>),
+}
+
+impl InputDistance<'_> {
+    fn distance(&self, p: Point3) -> Real {
+        match self {
+            InputDistance::Mesh(m) => m.distance(p),
+            InputDistance::Cloud(g) => g.nearest(p),
+        }
+    }
+}
+
+/// The 75th percentile of the distances from 64 points of a section's
+/// curve to the input: a curve fitted to a wrongly joined loop (a scan
+/// slab's arcs joined across a hole) has long stretches away from it.
+fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
+    let mut d: Vec<Real> = c
+        .fit
+        .curve
+        .sample(64)
+        .iter()
+        .map(|p| input.distance(*p))
+        .collect();
+    d.sort_by(Real::total_cmp);
+    d[48]
 }
 
 /// The 90th percentile of the in-plane distances from the loop points of
@@ -981,12 +1021,25 @@ fn drop_outliers(mut plan: Plan, opts: &ReconstructOptions, warnings: &mut Vec<S
 fn refine(
     body: BodyGeometry<'_>,
     seg: &Segmentation,
-    plan: Plan,
+    mut plan: Plan,
     opts: &ReconstructOptions,
+    input: &InputDistance,
     warnings: &mut Vec<String>,
 ) -> Result<BodyPart, ReconstructError> {
     let name = plan.name;
     let (start_cap, end_cap, tip) = (plan.start_cap, plan.end_cap, plan.tip);
+    let far = opts.max_curve_offset * seg.height;
+    plan.cuts.retain(|c| {
+        let off = curve_offset(c, input);
+        if off > far {
+            warnings.push(format!(
+                "{name}: section at {:.3} dropped (a quarter of its curve lies {:.1} mm or more from the input)",
+                c.at,
+                off * opts.units.to_mm()
+            ));
+        }
+        off <= far
+    });
     // One pass: a second one (for outliers among outliers) dropped real
     // sections of the base mesh's feet and hands (RMS 3.2 -> 4.6 mm).
     let plan = drop_outliers(plan, opts, warnings);
@@ -1015,7 +1068,10 @@ fn refine(
             let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
             let plausible =
                 c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
-            if plausible && stray(&c, &segments[i].patch.curve_at(0.5)) > tol {
+            if plausible
+                && curve_offset(&c, input) <= far
+                && stray(&c, &segments[i].patch.curve_at(0.5)) > tol
+            {
                 added.push(c);
             }
         }

@@ -91,10 +91,11 @@ fn real_bodies_and_scans_table() {
     let (body, r) = reconstruct(BodyGeometry::Cloud(&scan), &opts).unwrap();
     print_row("mh_male_scan.ply", &r);
     check_parts("mh_male_scan.ply", &body, &r);
-    // Measured: input->model rms 4.3 mm, coverage 93.8 %; the model->input
-    // side is not met yet (armpit and right hand sections of this scan).
-    assert!(r.input_to_model_mm.rms <= 6.0, "{:?}", r.input_to_model_mm);
-    assert!(r.coverage >= 0.92, "{}", r.coverage);
+    // Measured: rms 8.0 mm (input->model 3.5, model->input 10.8: its
+    // armpit and right hand), coverage 95.7 %.
+    assert!(r.input_to_model_mm.rms <= 5.0, "{:?}", r.input_to_model_mm);
+    assert!(r.distance_mm.rms <= 12.0, "{:?}", r.distance_mm);
+    assert!(r.coverage >= 0.94, "{}", r.coverage);
 }
 
 /// `p ↦ s R p + t` with `R` a rotation about a skew axis.

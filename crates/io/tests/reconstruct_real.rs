@@ -124,6 +124,12 @@ fn rotated_moved_and_centimetre_bodies_give_the_same_model() {
     let (body, report) =
         reconstruct(BodyGeometry::Mesh(&mesh), &ReconstructOptions::default()).unwrap();
     let reference = surface(&body);
+    // The model file reads back into the identical model.
+    let model = trigbody_io::body_file::model_of_body(&body);
+    let mut bytes = Vec::new();
+    trigbody_io::model::write_model(&mut bytes, &model).unwrap();
+    let back = trigbody_io::model::read_model(bytes.as_slice()).unwrap();
+    assert_eq!(back, model);
     for (scale, shift, units) in [
         (1.0, Vec3::new(3.0, -2.0, 50.0), Units::Metres),
         (100.0, Vec3::new(-120.0, 40.0, 7.0), Units::Centimetres),

@@ -199,6 +199,7 @@ pub fn run(args: LoftArgs) -> Result<()> {
     });
     let model = Model {
         units: args.units.clone(),
+        body: None,
         parts: vec![ModelPart { name, part }],
     };
     let mut bytes = Vec::new();

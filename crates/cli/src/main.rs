@@ -10,6 +10,7 @@ mod cmd_loft;
 mod cmd_measure;
 mod cmd_mesh;
 mod cmd_plot_sections;
+mod cmd_reconstruct;
 mod cmd_render;
 mod cmd_scan;
 mod cmd_sections;
@@ -37,6 +38,9 @@ enum Command {
     Examples(examples::ExamplesArgs),
     /// Skin cross-section curves into a part (a model file).
     Loft(cmd_loft::LoftArgs),
+    /// Reconstruct a body model from a mesh or a scan (the built-in body
+    /// without INPUT) and report its size and its distance to the input.
+    Reconstruct(cmd_reconstruct::ReconstructArgs),
     /// Tessellate a model into a mesh (.glb, .obj, .ply, .stl).
     Mesh(cmd_mesh::MeshArgs),
     /// Draw a mesh or model shaded from several views side by side (PNG);
@@ -66,6 +70,7 @@ fn main() -> ExitCode {
         Command::Fit(args) => cmd_fit::run(args),
         Command::Examples(args) => examples::run(args),
         Command::Loft(args) => cmd_loft::run(args),
+        Command::Reconstruct(args) => cmd_reconstruct::run(args),
         Command::Mesh(args) => cmd_mesh::run(args),
         Command::Render(args) => cmd_render::run(args),
         Command::Measure(args) => cmd_measure::run(args),

@@ -154,7 +154,7 @@ fn bad_input_exits_2_naming_the_problem() {
         &v9,
         std::fs::read_to_string(&out)
             .unwrap()
-            .replace("\"version\": 1", "\"version\": 9"),
+            .replace("\"version\": 2", "\"version\": 9"),
     )
     .unwrap();
     let glb = d.join("v9.glb");

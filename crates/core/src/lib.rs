@@ -13,6 +13,7 @@
 //! assert!((c.area() - std::f64::consts::PI * 0.01).abs() < 1e-15);
 //! ```
 
+pub mod body;
 pub mod cap;
 pub mod curve;
 pub mod distance;
@@ -35,6 +36,7 @@ pub mod series;
 pub mod shapes;
 pub mod tessellate;
 
+pub use body::{reconstruct, Body, BodyPart, ReconstructError, ReconstructOptions, Report, Units};
 pub use cap::{Cap, CapKind};
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use ellipse::EllipseFit;

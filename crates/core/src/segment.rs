@@ -2228,16 +2228,52 @@ pub fn cut_part(
     at: Real,
     opts: &SegmentOptions,
 ) -> Result<PartCut, SegmentError> {
+    cut_part_along(body, seg, part, at, None, false, opts)
+}
+
+/// [`cut_part`] with the plane's normal given (`None`: the axis tangent).
+/// The plane passes through the axis point at `at`; e.g. horizontal cuts
+/// (`normal = up`) of a nearly vertical part give parallel sections. With
+/// `outermost`, the *largest* loop around the axis point is taken instead
+/// of the innermost: the skin rather than a cavity inside it (a cut through
+/// the mouth of a mesh that models the mouth's inside has the throat's loop
+/// nested in the head's).
+pub fn cut_part_along(
+    body: BodyGeometry<'_>,
+    seg: &Segmentation,
+    part: PartName,
+    at: Real,
+    normal: Option<Vec3>,
+    outermost: bool,
+    opts: &SegmentOptions,
+) -> Result<PartCut, SegmentError> {
     let axis = seg.part(part).ok_or(SegmentError::NoSuchPart(part))?;
     let (p, t) = axis
         .point_and_tangent(at)
         .ok_or(SegmentError::EmptyCut { part, at })?;
-    let plane = Plane::new(p, t)?;
+    let n = match normal {
+        // Keep the normal pointing along the axis (method.md §2).
+        Some(n) if n.dot(t) < 0.0 => -n,
+        Some(n) => n,
+        None => t,
+    };
+    let plane = Plane::new(p, n)?;
     let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
     let local = local_geometry(body, p, radius);
     let loops = local_loops(&local, &plane, opts, seg.point_spacing);
     let outlines: Vec<SectionLoop> = loops.iter().map(|l| l.0.clone()).collect();
-    let k = crate::section::select_loop(&outlines, p).ok_or(SegmentError::EmptyCut { part, at })?;
+    let enclosing = outlines
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.contains(p))
+        .max_by(|a, b| a.1.area.total_cmp(&b.1.area))
+        .map(|(i, _)| i);
+    let k = match enclosing {
+        Some(k) if outermost => k,
+        _ => {
+            crate::section::select_loop(&outlines, p).ok_or(SegmentError::EmptyCut { part, at })?
+        }
+    };
     let (outline, scan_indices) = loops
         .into_iter()
         .nth(k)

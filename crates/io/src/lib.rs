@@ -37,6 +37,7 @@
 
 #![warn(missing_docs)]
 
+pub mod body_file;
 mod error;
 pub mod fit_json;
 mod format;

@@ -4,8 +4,11 @@
 //! ```json
 //! {
 //!   "format": "trigbody-model",
-//!   "version": 1,
+//!   "version": 2,
 //!   "units": "m",
+//!   "body": { "frame": { "up": [0, 1, 0], "front": [0, 0, 1],
+//!                        "left": [1, 0, 0], "origin": [0, -0.82, 0] },
+//!             "height": 1.73 },
 //!   "parts": [
 //!     {
 //!       "name": "leg_left",
@@ -18,9 +21,14 @@
 //!           "a": [0.0, 0.06, 0.0], "b": [0.0, 0.05, 0.0] }
 //!       ]
 //!     }
-//!   ]
+//!   ],
+//!   "transitions": []
 //! }
 //! ```
+//!
+//! `body` (a reconstructed body's frame) is optional; version-1 files (no
+//! `body`, no `transitions`) are still read. The full schema is in
+//! `docs/model-format.md`.
 //!
 //! Curves keep the paper's coefficient layout (`a`, `b`, Eq. 3) and their
 //! plane frames; sections are stored as given (before twist alignment), so
@@ -38,8 +46,11 @@ use trigbody_core::{CapKind, Frame, Part, PartError, PartOptions, Skinning, Trig
 
 /// The `format` field of every model file.
 pub const MODEL_FORMAT: &str = "trigbody-model";
-/// The model file version this build writes and reads.
-pub const MODEL_VERSION: u64 = 1;
+/// The model file version this build writes (it reads 1 and 2).
+/// Version 2 adds the optional `body` object (the body's frame and height)
+/// and the `transitions` list; a version-1 file reads as a model without
+/// them.
+pub const MODEL_VERSION: u64 = 2;
 
 /// A named part of a model.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,12 +61,29 @@ pub struct ModelPart {
     pub part: Part,
 }
 
+/// A reconstructed body's frame and size (model file version 2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModelBody {
+    /// Unit up direction (head above feet).
+    pub up: Vec3,
+    /// Unit direction the body faces.
+    pub front: Vec3,
+    /// Unit `up × front`.
+    pub left: Vec3,
+    /// The point on the floor below the crotch.
+    pub origin: Vec3,
+    /// Soles to head top, in the model's units.
+    pub height: f64,
+}
+
 /// A model: named parts in one unit of length.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
     /// The unit of every coordinate, e.g. `"m"` (informational; never
     /// converted).
     pub units: String,
+    /// The body's frame, for a reconstructed body (`None` for a loft).
+    pub body: Option<ModelBody>,
     /// The parts, in file order.
     pub parts: Vec<ModelPart>,
 }
@@ -75,7 +103,9 @@ pub enum ModelError {
         found: String,
     },
     /// A version this build cannot read.
-    #[error("model version {found} is not supported (this build reads version {MODEL_VERSION})")]
+    #[error(
+        "model version {found} is not supported (this build reads versions 1 to {MODEL_VERSION})"
+    )]
     UnknownVersion {
         /// The `version` value found (or `missing`).
         found: String,
@@ -396,7 +426,7 @@ pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
         }
     }
     match doc.get("version") {
-        Some(v) if v.as_u64() == Some(MODEL_VERSION) => {}
+        Some(v) if matches!(v.as_u64(), Some(1) | Some(MODEL_VERSION)) => {}
         other => {
             return Err(ModelError::UnknownVersion {
                 found: other.map_or("missing".to_string(), |v| v.to_string()),
@@ -459,7 +489,50 @@ pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
         })?;
         parts.push(ModelPart { name, part });
     }
-    Ok(Model { units, parts })
+    let body = match doc.get("body") {
+        None | Some(Value::Null) => None,
+        Some(v) => {
+            let r: BodyRecord = serde_json::from_value(v.clone()).map_err(structure("body"))?;
+            let fin = |field: &'static str, x: [f64; 3]| {
+                if x.iter().all(|c| c.is_finite()) {
+                    Ok(Vec3::from(x))
+                } else {
+                    Err(ModelError::Structure {
+                        context: "body".to_string(),
+                        message: format!("{field} {x:?} is not finite"),
+                    })
+                }
+            };
+            if !(r.height.is_finite() && r.height > 0.0) {
+                return Err(ModelError::Structure {
+                    context: "body".to_string(),
+                    message: format!("height {} must be a positive number", r.height),
+                });
+            }
+            Some(ModelBody {
+                up: fin("up", r.frame.up)?,
+                front: fin("front", r.frame.front)?,
+                left: fin("left", r.frame.left)?,
+                origin: fin("origin", r.frame.origin)?,
+                height: r.height,
+            })
+        }
+    };
+    Ok(Model { units, body, parts })
+}
+
+#[derive(Serialize, Deserialize)]
+struct BodyFrameRecord {
+    up: [f64; 3],
+    front: [f64; 3],
+    left: [f64; 3],
+    origin: [f64; 3],
+}
+
+#[derive(Serialize, Deserialize)]
+struct BodyRecord {
+    frame: BodyFrameRecord,
+    height: f64,
 }
 
 #[derive(Serialize)]
@@ -467,7 +540,11 @@ struct ModelRecord<'a> {
     format: &'static str,
     version: u64,
     units: &'a str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    body: Option<BodyRecord>,
     parts: Vec<PartRecord>,
+    /// Transition surfaces between parts (none yet: parts meet directly).
+    transitions: Vec<Value>,
 }
 
 fn model_record(model: &Model) -> ModelRecord<'_> {
@@ -496,7 +573,17 @@ fn model_record(model: &Model) -> ModelRecord<'_> {
         format: MODEL_FORMAT,
         version: MODEL_VERSION,
         units: &model.units,
+        body: model.body.map(|b| BodyRecord {
+            frame: BodyFrameRecord {
+                up: b.up.to_array(),
+                front: b.front.to_array(),
+                left: b.left.to_array(),
+                origin: b.origin.to_array(),
+            },
+            height: b.height,
+        }),
         parts,
+        transitions: Vec::new(),
     }
 }
 

@@ -37,6 +37,7 @@ fn sections() -> Vec<TrigCurve> {
 fn model(options: &PartOptions) -> Model {
     Model {
         units: "m".into(),
+        body: None,
         parts: vec![
             ModelPart {
                 name: "leg_left".into(),
@@ -128,7 +129,7 @@ fn nan_coefficients_are_refused() {
 
 #[test]
 fn unknown_version_and_format_are_refused() {
-    let err = edit(|d| d["version"] = 2.into()).unwrap_err();
+    let err = edit(|d| d["version"] = 3.into()).unwrap_err();
     assert!(matches!(err, ModelError::UnknownVersion { .. }), "{err}");
     assert!(err.to_string().contains('2'));
     let err = edit(|d| d["format"] = "something-else".into()).unwrap_err();
@@ -248,4 +249,34 @@ fn sections_files_read_per_level() {
         read_curve_levels(flat.as_bytes(), "c.json").unwrap().len(),
         1
     );
+}
+
+#[test]
+fn version_2_body_frame_round_trips_and_version_1_still_reads() {
+    let mut m = model(&PartOptions::default());
+    m.body = Some(trigbody_io::model::ModelBody {
+        up: Vec3::new(0.0, 1.0, 0.0),
+        front: Vec3::new(0.0, 0.0, 1.0),
+        left: Vec3::new(1.0, 0.0, 0.0),
+        origin: Vec3::new(0.01, -0.82, 0.1 / 3.0),
+        height: 1.7312345678901234,
+    });
+    assert_eq!(round_trip(&m), m);
+    let v2 = text(&m);
+    assert!(v2.contains("\"version\": 2") && v2.contains("\"transitions\": []"));
+    // A version-1 document (no body, no transitions) reads as before.
+    let mut doc: serde_json::Value = serde_json::from_str(&v2).unwrap();
+    doc["version"] = 1.into();
+    let obj = doc.as_object_mut().unwrap();
+    obj.remove("body");
+    obj.remove("transitions");
+    let old = read_model(doc.to_string().as_bytes()).unwrap();
+    assert_eq!(old.body, None);
+    assert_eq!(old.parts, m.parts);
+    // A body with a non-positive height is refused, naming it.
+    let err = edit(|d| {
+        d["body"] = serde_json::json!({"frame": {"up": [0,1,0], "front": [0,0,1], "left": [1,0,0], "origin": [0,0,0]}, "height": -1.0})
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("height"), "{err}");
 }

@@ -1,0 +1,118 @@
+//! End-to-end: `trigbody reconstruct` on the built-in body (no input: it
+//! must work on a fresh machine) and on bad input (the real binary).
+
+use assert_cmd::Command;
+use std::path::PathBuf;
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "trigbody-reconstruct-{}-{name}",
+        std::process::id()
+    ));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn trigbody() -> Command {
+    Command::cargo_bin("trigbody").unwrap()
+}
+
+#[test]
+fn built_in_body_writes_model_mesh_and_report() {
+    let d = dir("builtin");
+    let out = trigbody()
+        .current_dir(&d)
+        .args([
+            "reconstruct",
+            "-o",
+            "m.json",
+            "--mesh",
+            "m.glb",
+            "--report",
+            "r.json",
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    for word in [
+        "torso",
+        "left_arm",
+        "right_leg",
+        "design parameters",
+        "coverage",
+        "rms",
+    ] {
+        assert!(stdout.contains(word), "{word} missing from\n{stdout}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("r.json")).unwrap()).unwrap();
+    for key in [
+        "design_parameters",
+        "input_vertices",
+        "distance_mm",
+        "coverage",
+        "parts",
+    ] {
+        assert!(report.get(key).is_some(), "{key} missing");
+    }
+    for key in ["rms", "p95", "max"] {
+        assert!(report["distance_mm"][key].as_f64().unwrap() > 0.0);
+    }
+    assert_eq!(report["input_vertices"], 13380);
+    assert_eq!(report["parts"].as_array().unwrap().len(), 6);
+    let model = std::fs::read_to_string(d.join("m.json")).unwrap();
+    assert!(model.contains("\"version\": 2") && model.contains("\"body\""));
+    assert!(std::fs::metadata(d.join("m.glb")).unwrap().len() > 1000);
+    // The model file is read back by `trigbody mesh`.
+    trigbody()
+        .current_dir(&d)
+        .args(["mesh", "m.json", "-o", "again.obj"])
+        .assert()
+        .success();
+    // Outputs are not overwritten without --force.
+    let again = trigbody()
+        .current_dir(&d)
+        .args(["reconstruct", "-o", "m.json"])
+        .output()
+        .unwrap();
+    assert_eq!(again.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&again.stderr).contains("m.json"));
+}
+
+#[test]
+fn bad_input_exits_2_naming_the_file_and_what_was_not_found() {
+    let d = dir("bad");
+    let sphere = trigbody_core::shapes::uv_sphere(trigbody_core::Vec3::ZERO, 0.3, 32, 16);
+    let path = d.join("ball.obj");
+    trigbody_io::write_mesh(&path, &sphere, &trigbody_io::WriteOptions::default()).unwrap();
+    let out = trigbody()
+        .current_dir(&d)
+        .args(["reconstruct", "ball.obj"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("ball.obj") && err.contains("up axis"), "{err}");
+    // With an up axis given, the sphere is no standing body.
+    let out = trigbody()
+        .current_dir(&d)
+        .args(["reconstruct", "ball.obj", "--up-axis", "y"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("not found"), "{err}");
+    // A missing file.
+    let out = trigbody()
+        .args(["reconstruct", "no-such-body.obj"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no-such-body.obj"));
+}

@@ -1,0 +1,80 @@
+//! A reconstructed [`Body`] as a model file (version 2) and its [`Report`]
+//! as JSON.
+
+use crate::model::{Model, ModelBody, ModelPart};
+use serde_json::{json, Value};
+use trigbody_core::body::{Body, DistanceMm, Report};
+use trigbody_core::segment::PartName;
+
+/// The name a part has in model files and GLB nodes: `torso`, `head`,
+/// `left_arm`, `right_arm`, `left_leg`, `right_leg`, `left_foot`,
+/// `right_foot`.
+pub fn part_file_name(name: PartName) -> &'static str {
+    match name {
+        PartName::Torso => "torso",
+        PartName::Head => "head",
+        PartName::LeftArm => "left_arm",
+        PartName::RightArm => "right_arm",
+        PartName::LeftLeg => "left_leg",
+        PartName::RightLeg => "right_leg",
+        PartName::LeftFoot => "left_foot",
+        PartName::RightFoot => "right_foot",
+    }
+}
+
+/// The model of a body: its parts by name, its frame and height, its units.
+pub fn model_of_body(body: &Body) -> Model {
+    Model {
+        units: body.units.symbol().to_string(),
+        body: Some(ModelBody {
+            up: body.frame.up,
+            front: body.frame.front,
+            left: body.frame.left,
+            origin: body.frame.origin,
+            height: body.height,
+        }),
+        parts: body
+            .parts
+            .iter()
+            .map(|p| ModelPart {
+                name: part_file_name(p.name).to_string(),
+                part: p.part.clone(),
+            })
+            .collect(),
+    }
+}
+
+fn mm(d: &DistanceMm) -> Value {
+    json!({"rms": d.rms, "p95": d.p95, "max": d.max})
+}
+
+/// The report as JSON: `design_parameters`, `input_vertices`,
+/// `polygon_parameters` (3 × vertices), `parameter_ratio`, `distance_mm`
+/// (symmetric) with `input_to_model_mm` and `model_to_input_mm`,
+/// `coverage` (0-1), `parts` (per part: sections, orders {min, median, max},
+/// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
+/// worst E_a/E_M, design parameters), `parts_found` and `warnings`.
+pub fn report_json(report: &Report) -> Value {
+    json!({
+        "design_parameters": report.design_parameters,
+        "input_vertices": report.input_vertices,
+        "polygon_parameters": 3 * report.input_vertices,
+        "parameter_ratio": report.parameter_ratio(),
+        "distance_mm": mm(&report.distance_mm),
+        "input_to_model_mm": mm(&report.input_to_model_mm),
+        "model_to_input_mm": mm(&report.model_to_input_mm),
+        "coverage": report.coverage,
+        "parts": report.parts.iter().map(|p| json!({
+            "name": part_file_name(p.name),
+            "sections": p.sections,
+            "orders": {"min": p.orders.0, "median": p.orders.1, "max": p.orders.2},
+            "worst_ea": p.worst_ea,
+            "worst_em": p.worst_em,
+            "sections_meeting_tolerances": p.met,
+            "ellipse": {"worst_ea": p.ellipse_worst_ea, "worst_em": p.ellipse_worst_em},
+            "design_parameters": p.design_parameters,
+        })).collect::<Vec<_>>(),
+        "parts_found": report.parts_found.iter().map(|p| part_file_name(*p)).collect::<Vec<_>>(),
+        "warnings": report.warnings,
+    })
+}

@@ -1,0 +1,270 @@
+//! Whole-body reconstruction of the project's real bodies, their virtual
+//! scans and the external scan (from `../shared/data`; skipped with a note
+//! when that folder is absent), with the issue-5 table printed
+//! (`--nocapture`), invariance under rigid motions and units, and bad input.
+//!
+//! Only these tests know the bodies' conventions (metres, +y up, facing +z,
+//! the body's left is +x). The issue's targets are printed as met or not;
+//! the assertions guard what is met today (with a margin), so a regression
+//! fails while the open targets stay visible in the table.
+
+mod common;
+
+use common::shared_data;
+use trigbody_core::body::{reconstruct, Body, ReconstructError, ReconstructOptions, Report, Units};
+use trigbody_core::distance::{sample_surface, DistanceStats, MeshDistance};
+use trigbody_core::scanner::{virtual_scan, ScannerOptions};
+use trigbody_core::segment::{BodyGeometry, PartName, SegmentError};
+use trigbody_core::{shapes, Mesh, PointCloud, TessellationOptions, Vec3};
+use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
+
+fn print_row(name: &str, r: &Report) {
+    let ok = |b: bool| if b { "met" } else { "NOT met" };
+    println!(
+        "{name:<28} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | in->model rms {:>5.2} p95 {:>5.2} | model->in rms {:>5.2} p95 {:>5.2} | coverage {:>6.2} % | params {:>5} / 3x{} = {:>5.1} %",
+        r.parts.len(),
+        r.parts_found.len(),
+        r.distance_mm.rms,
+        r.distance_mm.p95,
+        r.distance_mm.max,
+        r.input_to_model_mm.rms,
+        r.input_to_model_mm.p95,
+        r.model_to_input_mm.rms,
+        r.model_to_input_mm.p95,
+        100.0 * r.coverage,
+        r.design_parameters,
+        r.input_vertices,
+        100.0 * r.parameter_ratio()
+    );
+    println!(
+        "    targets: rms <= 2.5 mm {}; p95 <= 6 mm {}; coverage >= 98 % {}; params <= 25 % {}",
+        ok(r.distance_mm.rms <= 2.5),
+        ok(r.distance_mm.p95 <= 6.0),
+        ok(r.coverage >= 0.98),
+        ok(r.parameter_ratio() <= 0.25)
+    );
+}
+
+fn check_parts(name: &str, body: &Body, r: &Report) {
+    assert_eq!(r.parts_found.len(), 8, "{name}: {:?}", r.parts_found);
+    assert_eq!(body.parts.len(), 6, "{name}: {:?}", r.warnings);
+}
+
+#[test]
+fn real_bodies_and_scans_table() {
+    let Some(data) = shared_data() else {
+        return;
+    };
+    let opts = ReconstructOptions::default();
+    for n in ["mh_male.obj", "mh_base.obj", "mh_female.ply"] {
+        let mesh = read_mesh(data.join("bodies").join(n), &ReadOptions::default()).unwrap();
+        let (body, r) = reconstruct(BodyGeometry::Mesh(&mesh), &opts).unwrap();
+        print_row(n, &r);
+        check_parts(n, &body, &r);
+        // Measured 2.9-3.1 mm, p95 2.3-4.8, coverage 95.1-97.3 %, 22-25 %
+        // of the polygon parameters.
+        assert!(r.distance_mm.rms <= 4.0, "{n}: {:?}", r.distance_mm);
+        assert!(r.distance_mm.p95 <= 8.0, "{n}: {:?}", r.distance_mm);
+        assert!(r.coverage >= 0.945, "{n}: {}", r.coverage);
+        assert!(r.parameter_ratio() <= 0.26, "{n}: {}", r.parameter_ratio());
+        // No buried pieces: the model's own surface stays near the input.
+        assert!(
+            r.model_to_input_mm.p95 <= 4.0,
+            "{n}: {:?}",
+            r.model_to_input_mm
+        );
+
+        let scan = virtual_scan(&mesh, &ScannerOptions::default())
+            .unwrap()
+            .cloud;
+        let (body, r) = reconstruct(BodyGeometry::Cloud(&scan), &opts).unwrap();
+        let label = format!("{n} (virtual scan)");
+        print_row(&label, &r);
+        check_parts(&label, &body, &r);
+        // Measured rms 3.4-4.2 mm, p95 5.4-6.6, coverage 94.1-95.6 %.
+        assert!(r.distance_mm.rms <= 5.5, "{label}: {:?}", r.distance_mm);
+        assert!(r.distance_mm.p95 <= 10.0, "{label}: {:?}", r.distance_mm);
+        assert!(r.coverage >= 0.92, "{label}: {}", r.coverage);
+    }
+    let scan =
+        read_point_cloud(data.join("scans/mh_male_scan.ply"), &ReadOptions::default()).unwrap();
+    let (body, r) = reconstruct(BodyGeometry::Cloud(&scan), &opts).unwrap();
+    print_row("mh_male_scan.ply", &r);
+    check_parts("mh_male_scan.ply", &body, &r);
+    // Measured: rms 4.6 mm (input->model 3.75, model->input 5.3), p95
+    // 8.1 mm, coverage 94.7 %.
+    assert!(r.input_to_model_mm.rms <= 5.0, "{:?}", r.input_to_model_mm);
+    assert!(r.distance_mm.rms <= 6.5, "{:?}", r.distance_mm);
+    assert!(r.coverage >= 0.93, "{}", r.coverage);
+}
+
+/// `p ↦ s R p + t` with `R` a rotation about a skew axis.
+fn transform(p: Vec3, s: f64, t: Vec3) -> Vec3 {
+    let axis = Vec3::new(1.0, 2.0, 3.0).normalized().unwrap();
+    let angle: f64 = 0.7;
+    let (sn, cs) = angle.sin_cos();
+    let r = p * cs + axis.cross(p) * sn + axis * (axis.dot(p) * (1.0 - cs));
+    r * s + t
+}
+
+fn surface(body: &Body) -> Mesh {
+    body.tessellate(&TessellationOptions {
+        target_edge: Some(0.004 * body.height),
+        ..TessellationOptions::default()
+    })
+    .unwrap()
+}
+
+#[test]
+fn rotated_moved_and_centimetre_bodies_give_the_same_model() {
+    let Some(data) = shared_data() else {
+        return;
+    };
+    let mesh = read_mesh(data.join("bodies/mh_male.obj"), &ReadOptions::default()).unwrap();
+    let (body, report) =
+        reconstruct(BodyGeometry::Mesh(&mesh), &ReconstructOptions::default()).unwrap();
+    let reference = surface(&body);
+    // The model file reads back into the identical model.
+    let model = trigbody_io::body_file::model_of_body(&body);
+    let mut bytes = Vec::new();
+    trigbody_io::model::write_model(&mut bytes, &model).unwrap();
+    let back = trigbody_io::model::read_model(bytes.as_slice()).unwrap();
+    assert_eq!(back, model);
+    for (scale, shift, units) in [
+        (1.0, Vec3::new(3.0, -2.0, 50.0), Units::Metres),
+        (100.0, Vec3::new(-120.0, 40.0, 7.0), Units::Centimetres),
+    ] {
+        let moved = Mesh {
+            positions: mesh
+                .positions
+                .iter()
+                .map(|&p| transform(p, scale, shift))
+                .collect(),
+            normals: None,
+            triangles: mesh.triangles.clone(),
+        };
+        let opts = ReconstructOptions {
+            units,
+            ..ReconstructOptions::default()
+        };
+        let (b2, r2) = reconstruct(BodyGeometry::Mesh(&moved), &opts).unwrap();
+        assert_eq!(b2.parts.len(), body.parts.len());
+        // The reports agree in millimetres.
+        assert!(
+            (r2.distance_mm.rms - report.distance_mm.rms).abs() < 0.3,
+            "{:?} vs {:?}",
+            r2.distance_mm,
+            report.distance_mm
+        );
+        assert!((r2.coverage - report.coverage).abs() < 0.01);
+        // The surfaces agree up to the transform: sample the reference
+        // model, move the samples, measure to the new model (in mm).
+        let other = surface(&b2);
+        let md = MeshDistance::new(&other);
+        let d: Vec<f64> = sample_surface(&reference, 20_000)
+            .iter()
+            .map(|&p| md.distance(transform(p, scale, shift)) / scale * 1000.0)
+            .collect();
+        let s = DistanceStats::of(&d);
+        println!(
+            "scale {scale}: model vs transformed model rms {:.3} mm p95 {:.3} max {:.2}",
+            s.rms, s.p95, s.max
+        );
+        assert!(s.rms < 1.0 && s.p95 < 1.5, "{s:?}");
+    }
+}
+
+#[test]
+fn a_sphere_and_a_cube_are_clear_errors() {
+    let sphere = shapes::uv_sphere(Vec3::ZERO, 0.3, 48, 24);
+    let e = reconstruct(BodyGeometry::Mesh(&sphere), &ReconstructOptions::default()).unwrap_err();
+    assert!(
+        matches!(e, ReconstructError::Segment(SegmentError::NoUpAxis { .. })),
+        "{e}"
+    );
+    assert!(e.to_string().contains("up axis"), "{e}");
+    // A cube as a cloud of its corners and face points.
+    let mut pts = Vec::new();
+    for i in 0..20 {
+        for j in 0..20 {
+            let (u, v) = (i as f64 / 19.0, j as f64 / 19.0);
+            for p in [
+                Vec3::new(u, v, 0.0),
+                Vec3::new(u, v, 1.0),
+                Vec3::new(u, 0.0, v),
+                Vec3::new(u, 1.0, v),
+                Vec3::new(0.0, u, v),
+                Vec3::new(1.0, u, v),
+            ] {
+                pts.push(p);
+            }
+        }
+    }
+    let cube = PointCloud::new(pts).unwrap();
+    let e = reconstruct(BodyGeometry::Cloud(&cube), &ReconstructOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("up axis"), "{e}");
+    // A long box with an up axis given is not a body: the error names what
+    // was not found.
+    let stick = shapes::cylinder(Vec3::ZERO, 0.1, 1.7, 40, 32);
+    let mut o = ReconstructOptions::default();
+    o.segment.up = Some(Vec3::Z);
+    let e = reconstruct(BodyGeometry::Mesh(&stick), &o).unwrap_err();
+    assert!(e.to_string().contains("not found"), "{e}");
+}
+
+#[test]
+fn a_body_lying_down_and_a_scan_without_an_arm() {
+    let Some(data) = shared_data() else {
+        return;
+    };
+    let mesh = read_mesh(data.join("bodies/mh_male.obj"), &ReadOptions::default()).unwrap();
+    // Lying along x, no up axis given: found lying down (its longest axis
+    // is its height), the same body.
+    let lying = Mesh {
+        positions: mesh
+            .positions
+            .iter()
+            .map(|p| Vec3::new(p.y, -p.x, p.z))
+            .collect(),
+        normals: None,
+        triangles: mesh.triangles.clone(),
+    };
+    let (b, r) = reconstruct(BodyGeometry::Mesh(&lying), &ReconstructOptions::default()).unwrap();
+    assert_eq!(b.parts.len(), 6);
+    assert!(b.frame.up.dot(Vec3::X) > 0.99, "{:?}", b.frame.up);
+    assert!(r.distance_mm.rms < 4.0, "{:?}", r.distance_mm);
+    // A scan with the left arm cut away (points left of the torso above the
+    // crotch): a partial model and a warning naming the arm.
+    let scan = virtual_scan(&mesh, &ScannerOptions::default())
+        .unwrap()
+        .cloud;
+    let kept: Vec<Vec3> = scan
+        .positions
+        .iter()
+        .copied()
+        .filter(|p| !(p.x > 0.19 && p.y > -0.1))
+        .collect();
+    let cloud = PointCloud::new(kept).unwrap();
+    match reconstruct(BodyGeometry::Cloud(&cloud), &ReconstructOptions::default()) {
+        Ok((b, r)) => {
+            println!(
+                "scan without its left arm: {} parts; warnings {:?}",
+                b.parts.len(),
+                r.warnings
+                    .iter()
+                    .filter(|w| w.contains("arm"))
+                    .collect::<Vec<_>>()
+            );
+            assert!(b.part(PartName::LeftArm).is_none());
+            assert!(
+                r.warnings.iter().any(|w| w.contains("left arm")),
+                "{:?}",
+                r.warnings
+            );
+        }
+        Err(e) => {
+            println!("scan without its left arm: {e}");
+            assert!(e.to_string().contains("not found"), "{e}")
+        }
+    }
+}

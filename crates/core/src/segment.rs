@@ -6,7 +6,8 @@
 //! across.
 //!
 //! ```no_run
-//! # fn load() -> trigbody_core::Mesh { unimplemented!() }
+//! # // A body mesh from any reader (`trigbody_io::read_mesh`, say).
+//! # fn load() -> trigbody_core::Mesh { trigbody_core::Mesh::default() }
 //! use trigbody_core::segment::{cut_part, segment, BodyGeometry, PartName, SegmentOptions};
 //! let mesh = load();
 //! let body = BodyGeometry::Mesh(&mesh);

@@ -2428,6 +2428,29 @@ fn extend_to_fingertips(positions: &[Point3], arm: &mut PartAxis) -> Option<Poin
 /// point); the first cut that merges with the trunk ends it. Prepends the
 /// new centres to the axis and returns the new proximal end, or `None`
 /// when the first cut already merges.
+/// A slicer across `dir` for the geometry near a point: plane sections of a
+/// mesh, or occupancy components of a cloud's slabs (cells `graph_cell` ×
+/// the point spacing, which a cloud needs).
+fn axis_slicer<'a>(
+    local: &'a Local,
+    dir: Vec3,
+    spacing: Option<Real>,
+    opts: &SegmentOptions,
+) -> Option<AxisSlicer<'a>> {
+    Some(match local {
+        Local::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
+        Local::Cloud(c, _) => {
+            let spacing = spacing?;
+            let graph = ScanSectionOptions {
+                cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
+                closing_radius: opts.graph_closing,
+                ..opts.scan
+            };
+            AxisSlicer::Cloud(SlabComponents::new(&c.positions, dir, spacing, &graph).ok()?)
+        }
+    })
+}
+
 fn extend_into_shoulder(
     body: BodyGeometry<'_>,
     arm: &mut PartAxis,
@@ -2448,18 +2471,7 @@ fn extend_into_shoulder(
     let area = std::f64::consts::PI * r * r;
     let reach = 4.0 * r;
     let local = local_geometry(body, p0 + dir * (0.5 * reach), reach + 4.0 * r);
-    let slicer = match &local {
-        Local::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
-        Local::Cloud(c, _) => {
-            let spacing = spacing?;
-            let graph = ScanSectionOptions {
-                cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
-                closing_radius: opts.graph_closing,
-                ..opts.scan
-            };
-            AxisSlicer::Cloud(SlabComponents::new(&c.positions, dir, spacing, &graph).ok()?)
-        }
-    };
+    let slicer = axis_slicer(&local, dir, spacing, opts)?;
     let e1 = dir.any_perpendicular();
     let e2 = dir.cross(e1);
     let mut added: Vec<(Point3, Real)> = Vec::new();
@@ -2511,18 +2523,7 @@ fn find_wrist(
     let r = arm.max_radius();
     let centre = (mid + tip) * 0.5;
     let local = local_geometry(body, centre, 0.5 * len + 3.0 * r);
-    let slicer = match &local {
-        Local::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
-        Local::Cloud(c, _) => {
-            let spacing = spacing?;
-            let graph = ScanSectionOptions {
-                cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
-                closing_radius: opts.graph_closing,
-                ..opts.scan
-            };
-            AxisSlicer::Cloud(SlabComponents::new(&c.positions, dir, spacing, &graph).ok()?)
-        }
-    };
+    let slicer = axis_slicer(&local, dir, spacing, opts)?;
     let e1 = dir.any_perpendicular();
     let e2 = dir.cross(e1);
     let count = 40;

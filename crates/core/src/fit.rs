@@ -259,34 +259,34 @@ pub fn fit_loop(points: &[Point3], opts: &FitOptions) -> Result<LoopFit, FitErro
             });
         }
     }
+    // Orient the normal: along the requested direction, else so that the
+    // input's own order runs counter-clockwise (positive signed area
+    // ½ Σ (p_i − c) × (p_{i+1} − c) · n).
+    let flip = match opts.normal {
+        Some(n) => normal.dot(n) < 0.0,
+        None => {
+            let n = pts.len();
+            let area: Real = (0..n)
+                .map(|i| {
+                    (pts[i] - centroid)
+                        .cross(pts[(i + 1) % n] - centroid)
+                        .dot(normal)
+                })
+                .sum();
+            area < 0.0
+        }
+    };
+    if flip {
+        normal = -normal;
+    }
     let e1_guess = match opts.reference {
+        Some(r) if (r - normal * r.dot(normal)).norm() <= 1e-9 * r.norm() => {
+            return Err(FitError::BadReference)
+        }
         Some(r) => r,
         None => vecs[0],
     };
-    // Orient the normal: along the requested direction, else so that the
-    // input's own order runs counter-clockwise.
-    match opts.normal {
-        Some(n) => {
-            if normal.dot(n) < 0.0 {
-                normal = -normal;
-            }
-        }
-        None => {
-            let frame = Frame::from_normal(centroid, normal, vecs[0]).ok_or(FitError::Collinear)?;
-            let q: Vec<Vec2> = pts.iter().map(|p| frame.to_plane(*p)).collect();
-            if signed_area(&q) < 0.0 {
-                normal = -normal;
-            }
-        }
-    }
     let frame = Frame::from_normal(centroid, normal, e1_guess).ok_or(FitError::BadReference)?;
-    if opts.reference.is_some() {
-        let r = opts.reference.unwrap_or(Vec3::X);
-        let inplane = r - normal * r.dot(normal);
-        if inplane.norm() <= 1e-9 * r.norm() {
-            return Err(FitError::BadReference);
-        }
-    }
     let q: Vec<Vec2> = pts.iter().map(|p| frame.to_plane(*p)).collect();
     let mut fit = fit_plane_points(frame, q, Vec2::new(1.0, 0.0), opts)?;
     fit.plane_deviation = deviation;

@@ -56,7 +56,7 @@
 use crate::fit::FitOptions;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::mesh::{MeshError, PointCloud};
-use crate::section::{plane_axes, select_loop, Plane, SectionLoop};
+use crate::section::{plane_axes, segment_parameter, select_loop, Plane, SectionLoop};
 use std::collections::VecDeque;
 use thiserror::Error;
 
@@ -914,14 +914,8 @@ fn order_by_contour(
             for k in 0..8 {
                 let i = (l as usize + nc + k - 4) % nc;
                 let (a, b) = (smooth[i], smooth[(i + 1) % nc]);
-                let ab = b - a;
-                let l2 = ab.norm_squared();
-                let t = if l2 > 0.0 {
-                    ((q - a).dot(ab) / l2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let d = (a + ab * t - q).norm_squared();
+                let t = segment_parameter(q, a, b);
+                let d = (a + (b - a) * t - q).norm_squared();
                 if d < best.0 {
                     best = (d, arc[i] + t * (arc[i + 1] - arc[i]));
                 }

@@ -718,16 +718,22 @@ pub fn distance_to_polygon(q: Point2, poly: &[Point2]) -> Real {
         .fold(Real::INFINITY, Real::min)
 }
 
-/// Distance from `q` to the segment `[a, b]`.
-pub fn distance_to_segment(q: Point2, a: Point2, b: Point2) -> Real {
+/// The parameter `t ∈ [0, 1]` of the point of segment `[a, b]` nearest to
+/// `q` (that point is `a + t (b − a)`; 0 for a degenerate segment).
+pub fn segment_parameter(q: Point2, a: Point2, b: Point2) -> Real {
     let ab = b - a;
     let l2 = ab.norm_squared();
-    let t = if l2 > 0.0 {
+    if l2 > 0.0 {
         ((q - a).dot(ab) / l2).clamp(0.0, 1.0)
     } else {
         0.0
-    };
-    (a + ab * t - q).norm()
+    }
+}
+
+/// Distance from `q` to the segment `[a, b]`.
+pub fn distance_to_segment(q: Point2, a: Point2, b: Point2) -> Real {
+    let t = segment_parameter(q, a, b);
+    (a + (b - a) * t - q).norm()
 }
 
 #[cfg(test)]

@@ -176,16 +176,7 @@ impl PatchSamples {
         normals: &mut Vec<Vec3>,
     ) -> bool {
         let (mut pw, mut dpw) = ([0.0; N], [0.0; N]);
-        let mut x = 1.0;
-        for m in 0..N {
-            pw[m] = x;
-            dpw[m] = if m == 0 {
-                0.0
-            } else {
-                m as Real * u.powi(m as i32 - 1)
-            };
-            x *= u;
-        }
+        powers(u, &mut pw, &mut dpw);
         positions.extend(self.g.chunks_exact(N).map(|g| {
             let mut p = Vec3::ZERO;
             for m in 0..N {
@@ -221,16 +212,7 @@ impl PatchSamples {
         let terms = self.terms;
         let mut pw = vec![0.0; terms];
         let mut dpw = vec![0.0; terms];
-        let mut x = 1.0;
-        for m in 0..terms {
-            pw[m] = x;
-            dpw[m] = if m == 0 {
-                0.0
-            } else {
-                m as Real * u.powi(m as i32 - 1)
-            };
-            x *= u;
-        }
+        powers(u, &mut pw, &mut dpw);
         let mut undefined = false;
         let samples = self.g.chunks_exact(terms).zip(self.gv.chunks_exact(terms));
         for ((g, gv), (p_out, n_out)) in samples.zip(pos.iter_mut().zip(nrm.iter_mut())) {
@@ -490,6 +472,17 @@ pub fn tessellate_part_into(
         triangles,
     };
     Ok(())
+}
+
+/// The powers `u^m` and their derivatives `m u^(m−1)` for `m < pw.len()`,
+/// each from the previous power (no `powi` per term).
+fn powers(u: Real, pw: &mut [Real], dpw: &mut [Real]) {
+    let mut x = 1.0;
+    for m in 0..pw.len() {
+        pw[m] = x;
+        dpw[m] = if m == 0 { 0.0 } else { m as Real * pw[m - 1] };
+        x *= u;
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,595 @@
+//! A whole body model reconstructed from a mesh or a scanned point cloud
+//! (issue 5, method.md §6-§8): [`reconstruct`] segments the input, cuts every
+//! part across its own axis, fits each loop with the smallest order that
+//! meets the tolerances, skins the parts, closes their free ends and
+//! measures the result against the input ([`Report`]).
+//!
+//! # The pipeline
+//!
+//! 1. **Segmentation** ([`segment`]): the body's frame (up, front, left),
+//!    landmarks and one smoothed axis per part.
+//! 2. **Sections.** Each part is cut by planes perpendicular to its axis
+//!    ([`cut_part`]), spaced [`ReconstructOptions::spacing`] × `H` apart
+//!    (`H` the body's height), and each loop is fitted by [`fit_loop`] with
+//!    the body's front as the reference direction (where `v = 0` lies) and
+//!    the axis as the plane normal, so every section of a part starts at
+//!    the front and runs the same way: no twist between sections. Scan
+//!    loops use [`scan_fit_options`] (the smoothness penalty that bridges
+//!    the scanner's holes).
+//! 3. **Parts and ends.**
+//!    * Torso: crotch → neck, both ends open (the legs hang below its
+//!      first section, the head sits on its last).
+//!    * Head: neck → head top. Sections run while the loop stays at least
+//!      [`ReconstructOptions::end_area_fraction`] of the part's largest
+//!      loop beyond it, then a dome reaches the head top: its height
+//!      `h = d / r`, `d` the distance from the last section's centre to the
+//!      head top along the axis, `r = √(A/π)` the last loop's mean radius.
+//!    * Arms: shoulder → hand tip, the same rule past the wrist (where the
+//!      fingers split the hand's loop, its area drops): a mitten-like dome
+//!      to the hand tip.
+//!    * Legs with feet (shoe-like): crotch → ankle along the leg's axis,
+//!      then straight down along `−up` to just above the floor, so the
+//!      sections below the ankle are horizontal outlines of the whole foot
+//!      (heel to toes), until the outline shrinks below
+//!      [`ReconstructOptions::sole_area_fraction`] of the largest (where the
+//!      sole curves up at heel and toes); a shallow dome from the last
+//!      outline down to the floor below its centre closes the sole (a flat
+//!      cap there left the sole 6-10 mm away: coverage 96.2 → 96.9 % on the
+//!      male mesh). The segmentation's
+//!      foot parts are reported as found and covered by the legs.
+//!
+//!    Sections whose loop cannot be cut or fitted are skipped with a
+//!    warning; when two consecutive planes cross inside the curves (where a
+//!    tilted axis turns), the later section is dropped.
+//! 4. **Report**: design parameters (method.md §7) against 3 × the input's
+//!    vertices, and distances both ways in millimetres (see [`Report`]).
+//!
+//! Nothing here knows units, coordinates or vertex order: lengths are
+//! fractions of `H`; [`ReconstructOptions::units`] only converts the
+//! report's distances to millimetres.
+
+use crate::cap::CapKind;
+use crate::curve::TrigCurve;
+use crate::distance::{sample_surface, DistanceStats, MeshDistance};
+use crate::fit::{fit_loop, FitOptions, LoopFit};
+use crate::math::{Point3, Real, Vec3};
+use crate::mesh::{Mesh, PointCloud};
+use crate::part::{Part, PartError, PartOptions};
+use crate::scan_section::scan_fit_options;
+use crate::segment::{
+    cut_part_along, segment, BodyFrame, BodyGeometry, LandmarkKind, PartAxis, PartName,
+    SegmentError, SegmentOptions, Segmentation,
+};
+use crate::tessellate::{tessellate_part, TessellateError, TessellationOptions};
+use std::fmt;
+use thiserror::Error;
+
+mod plan;
+mod report;
+
+use plan::*;
+pub use report::*;
+
+/// The unit of the input's coordinates (the report is in millimetres).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Units {
+    /// Metres (the default: the built-in body's unit).
+    #[default]
+    Metres,
+    /// Centimetres.
+    Centimetres,
+    /// Millimetres.
+    Millimetres,
+}
+
+impl Units {
+    /// Millimetres per input unit.
+    pub fn to_mm(self) -> Real {
+        match self {
+            Units::Metres => 1000.0,
+            Units::Centimetres => 10.0,
+            Units::Millimetres => 1.0,
+        }
+    }
+    /// The symbol written in model files: `m`, `cm`, `mm`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Units::Metres => "m",
+            Units::Centimetres => "cm",
+            Units::Millimetres => "mm",
+        }
+    }
+    /// The unit of a symbol (`m`, `cm`, `mm`).
+    pub fn from_symbol(s: &str) -> Option<Units> {
+        match s {
+            "m" => Some(Units::Metres),
+            "cm" => Some(Units::Centimetres),
+            "mm" => Some(Units::Millimetres),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for Units {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.symbol())
+    }
+}
+
+/// Options of [`reconstruct`]; lengths are fractions of the body's height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReconstructOptions {
+    /// Segmentation (up and front axes, slices). Default: found from the data.
+    pub segment: SegmentOptions,
+    /// Fit tolerances and order choice (default E_a ≤ 1 %, E_M ≤ 5 %,
+    /// automatic order).
+    pub fit: FitOptions,
+    /// Section spacing along a part's axis as a fraction of the height.
+    /// Default 0.012 (about 2 cm on a 1.7 m body).
+    pub spacing: Real,
+    /// Section spacing below the ankle (the foot's outline changes fast
+    /// there), as a fraction of the height. Default 0.004.
+    pub foot_spacing: Real,
+    /// A rounded end (head top, hand) ends its sections where the loop has
+    /// shrunk below this fraction of the largest loop beyond the part's
+    /// middle (head) or wrist (hand); a dome closes the rest. Default 0.5.
+    pub end_area_fraction: Real,
+    /// The foot's sections end where its outline shrinks below this fraction
+    /// of its largest outline below the ankle (the sole curving up at the
+    /// heel and toes); a flat cap closes it. Default 0.75.
+    pub sole_area_fraction: Real,
+    /// Height of the lowest foot section above the floor, as a fraction of
+    /// the height. Default 0.002.
+    pub sole_height: Real,
+    /// Skinning of every part (caps are chosen by the pipeline).
+    /// Default [`PartOptions::default`] (Catmull-Rom, twist aligned).
+    pub part: PartOptions,
+    /// The input's unit (the report converts to millimetres). Default metres.
+    pub units: Units,
+    /// Scan loops carry the scanner's noise (about 1 mm, several per cent of
+    /// an arm's radius), which no order should reproduce: their tolerances
+    /// are `E_a`, `E_M` times this factor. Default 2.
+    pub scan_tolerance_factor: Real,
+    /// A section is dropped when a quarter of its curve lies farther than
+    /// this fraction of the height from the input (a wrongly joined scan
+    /// loop). Default 0.006 (1 cm on 1.73 m).
+    pub max_curve_offset: Real,
+    /// Rounds of adaptive refinement (see [`refine`]). Default 3.
+    pub refine_rounds: usize,
+    /// A section is added where the surface strays farther than this
+    /// fraction of the height from the input halfway between two sections.
+    /// Default 0.003 (5.2 mm on 1.73 m; measured on the three meshes: 0.0015
+    /// gave the same RMS within 0.05 mm with 6 % more parameters).
+    pub refine_tolerance: Real,
+    /// Sections are never added closer than this fraction of the height.
+    /// Default 0.002.
+    pub min_spacing: Real,
+    /// Points sampled on each surface for the distances. Default 60 000.
+    pub report_samples: usize,
+    /// Tessellation edge length for the measured model surface, as a
+    /// fraction of the height. Default 0.003 (5 mm on 1.7 m).
+    pub report_edge: Real,
+    /// Coverage distance in millimetres: an input point is covered when the
+    /// model passes within it. Default 5.
+    pub coverage_mm: Real,
+}
+
+impl Default for ReconstructOptions {
+    fn default() -> Self {
+        ReconstructOptions {
+            segment: SegmentOptions::default(),
+            fit: FitOptions::default(),
+            spacing: 0.012,
+            foot_spacing: 0.004,
+            end_area_fraction: 0.5,
+            sole_height: 0.002,
+            sole_area_fraction: 0.75,
+            part: PartOptions::default(),
+            units: Units::Metres,
+            scan_tolerance_factor: 2.0,
+            max_curve_offset: 0.006,
+            refine_rounds: 3,
+            refine_tolerance: 0.003,
+            min_spacing: 0.002,
+            report_samples: 60_000,
+            report_edge: 0.003,
+            coverage_mm: 5.0,
+        }
+    }
+}
+
+/// What went wrong in [`reconstruct`].
+#[derive(Debug, Error, PartialEq)]
+pub enum ReconstructError {
+    /// Segmentation failed: the message names what was not found.
+    #[error("segmentation: {0}")]
+    Segment(#[from] SegmentError),
+    /// A bad option value.
+    #[error("bad option {name} = {value}: {why}")]
+    BadOption {
+        name: &'static str,
+        value: Real,
+        why: &'static str,
+    },
+    /// A part had fewer than two usable sections.
+    #[error(
+        "{part}: only {count} usable section(s) could be cut and fitted (at least 2 are needed)"
+    )]
+    TooFewSections { part: PartName, count: usize },
+    /// Skinning a part failed.
+    #[error("{part}: {source}")]
+    Part {
+        part: PartName,
+        #[source]
+        source: PartError,
+    },
+    /// Tessellating a part for the measurements failed.
+    #[error("{part}: {source}")]
+    Tessellate {
+        part: PartName,
+        #[source]
+        source: TessellateError,
+    },
+}
+
+/// The fit summary of one section.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SectionFit {
+    /// Arc-length fraction along the part's (possibly extended) axis.
+    pub at: Real,
+    pub order: usize,
+    pub ea: Real,
+    pub em: Real,
+    /// True when the tolerances were met.
+    pub met: bool,
+    /// The ellipse baseline's `(E_a, E_M)` on the same loop.
+    pub ellipse: Option<(Real, Real)>,
+}
+
+/// One reconstructed part.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyPart {
+    pub name: PartName,
+    pub part: Part,
+    /// One entry per section of `part`, in order.
+    pub fits: Vec<SectionFit>,
+}
+
+/// A reconstructed body: skinned parts with their caps, in the input's
+/// frame and units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    pub units: Units,
+    /// The body's frame from the segmentation.
+    pub frame: BodyFrame,
+    /// Soles to head top, in input units.
+    pub height: Real,
+    pub parts: Vec<BodyPart>,
+}
+
+impl Body {
+    /// Design parameters (method.md §7): every section's coefficients,
+    /// origin and frame, plus one height per dome cap.
+    pub fn design_parameters(&self) -> usize {
+        self.parts
+            .iter()
+            .map(|p| {
+                let domes = [p.part.options().start_cap, p.part.options().end_cap]
+                    .iter()
+                    .filter(|c| matches!(c, CapKind::Dome { .. }))
+                    .count();
+                p.part.design_parameters() + domes
+            })
+            .sum()
+    }
+
+    /// The part of a name.
+    pub fn part(&self, name: PartName) -> Option<&BodyPart> {
+        self.parts.iter().find(|p| p.name == name)
+    }
+
+    /// Tessellates every part into one mesh (parts one after the other).
+    pub fn tessellate(&self, options: &TessellationOptions) -> Result<Mesh, ReconstructError> {
+        let mut out = Mesh::default();
+        for p in &self.parts {
+            let m = tessellate_part(&p.part, options).map_err(|source| {
+                ReconstructError::Tessellate {
+                    part: p.name,
+                    source,
+                }
+            })?;
+            append_mesh(&mut out, &m);
+        }
+        Ok(out)
+    }
+}
+
+/// Appends `m` to `out` (indices shifted).
+pub fn append_mesh(out: &mut Mesh, m: &Mesh) {
+    let base = out.positions.len() as u32;
+    out.positions.extend_from_slice(&m.positions);
+    match (&mut out.normals, &m.normals) {
+        (Some(n), Some(mn)) => n.extend_from_slice(mn),
+        (n @ None, Some(mn)) if base == 0 => *n = Some(mn.clone()),
+        (n, _) => *n = None,
+    }
+    out.triangles.extend(
+        m.triangles
+            .iter()
+            .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+    );
+}
+
+fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
+    let pos = |name: &'static str, v: Real| {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(ReconstructError::BadOption {
+                name,
+                value: v,
+                why: "must be a positive finite number",
+            })
+        }
+    };
+    pos("spacing", o.spacing)?;
+    pos("foot_spacing", o.foot_spacing)?;
+    pos("end_area_fraction", o.end_area_fraction)?;
+    pos("sole_height", o.sole_height)?;
+    pos("sole_area_fraction", o.sole_area_fraction)?;
+    pos("report_edge", o.report_edge)?;
+    pos("refine_tolerance", o.refine_tolerance)?;
+    pos("min_spacing", o.min_spacing)?;
+    pos("scan_tolerance_factor", o.scan_tolerance_factor)?;
+    pos("max_curve_offset", o.max_curve_offset)?;
+    pos("coverage_mm", o.coverage_mm)?;
+    if o.spacing > 0.2 || o.foot_spacing > 0.2 {
+        return Err(ReconstructError::BadOption {
+            name: "spacing",
+            value: o.spacing.max(o.foot_spacing),
+            why: "must be at most 0.2 of the height",
+        });
+    }
+    Ok(())
+}
+
+/// Reconstructs a body model from a mesh or a cloud and measures it (see
+/// the module doc). Parts the segmentation did not find (an arm missing
+/// from a scan) are left out with a warning; errors name what was not
+/// found.
+pub fn reconstruct(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+) -> Result<(Body, Report), ReconstructError> {
+    reconstruct_with_progress(body, opts, &mut |_| {})
+}
+
+/// [`reconstruct`] calling `progress` with the name of each step as it
+/// starts (for a progress display).
+pub fn reconstruct_with_progress(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(Body, Report), ReconstructError> {
+    check_options(opts)?;
+    progress("segmenting");
+    let seg0 = segment(body, &opts.segment)?;
+    let mut warnings = seg0.warnings.clone();
+    let h = seg0.height;
+    let up = seg0.frame.up;
+    let floor = seg0.frame.origin.dot(up);
+    // Legs continue straight down to the floor (shoe-like feet).
+    let mut seg = seg0.clone();
+    for p in seg.parts.iter_mut() {
+        if matches!(p.name, PartName::LeftLeg | PartName::RightLeg) {
+            *p = extend_to_floor(
+                p,
+                up,
+                floor,
+                opts.sole_height * h,
+                0.25 * opts.foot_spacing * h,
+            );
+        }
+    }
+
+    // Horizontal cuts at the crotch itself meet both legs or their merged
+    // loop: the torso starts a little above it and the legs a little below.
+    let crotch_level = landmark(&seg, LandmarkKind::Crotch).map_or(floor + 0.47 * h, |c| c.dot(up));
+    // Measured: 0.6 slice spacings on meshes (coverage +0.4-0.5 % against
+    // 1.5); scan slabs are a point spacing thick and the crotch is a
+    // scanner hole, so at 0.6 the first leg loops of virtual scans mixed
+    // both thighs (model -> input RMS 4.2 -> 7.2 mm): 1.5 there.
+    let margin = match body {
+        BodyGeometry::Mesh(_) => 0.6,
+        BodyGeometry::Cloud(_) => 1.5,
+    } * seg.slice_spacing;
+    let mut plans = Vec::new();
+    for name in [
+        PartName::Torso,
+        PartName::Head,
+        PartName::LeftArm,
+        PartName::RightArm,
+        PartName::LeftLeg,
+        PartName::RightLeg,
+    ] {
+        let Some(axis) = seg.part(name) else {
+            warnings.push(format!("{name} not found: left out of the model"));
+            continue;
+        };
+        progress(&format!("sections: {name}"));
+        let len = axis.length();
+        if !(len > 0.0) {
+            warnings.push(format!("{name}: axis of zero length, left out"));
+            continue;
+        }
+        let step = opts.spacing * h / len;
+        let plan = match name {
+            PartName::Torso => Plan {
+                name,
+                cuts: cut_all(
+                    body,
+                    &seg,
+                    name,
+                    &fractions(
+                        fraction_at_level(axis, up, crotch_level + margin, true),
+                        1.0,
+                        step,
+                    ),
+                    opts,
+                    &mut warnings,
+                ),
+                start_cap: CapKind::Open,
+                end_cap: CapKind::Open,
+                tip: None,
+            },
+            PartName::Head => Plan {
+                name,
+                cuts: cut_to_rounded_end(body, &seg, name, 0.0, 0.5, step, opts, &mut warnings),
+                start_cap: CapKind::Open,
+                end_cap: CapKind::dome(),
+                tip: axis.points.last().copied(),
+            },
+            PartName::LeftArm | PartName::RightArm => {
+                let wrist_kind = if name == PartName::LeftArm {
+                    LandmarkKind::LeftWrist
+                } else {
+                    LandmarkKind::RightWrist
+                };
+                let wrist = landmark(&seg, wrist_kind)
+                    .map(|w| fraction_of(axis, w))
+                    .unwrap_or(0.8);
+                let fine = (0.5 * step).max(0.25 * opts.foot_spacing * h / len);
+                let mut cuts = cut_all(
+                    body,
+                    &seg,
+                    name,
+                    &fractions(0.0, wrist, step),
+                    opts,
+                    &mut warnings,
+                );
+                cuts.pop(); // the wrist itself starts the hand's run
+                cuts.extend(cut_to_rounded_end(
+                    body,
+                    &seg,
+                    name,
+                    wrist,
+                    wrist,
+                    fine,
+                    opts,
+                    &mut warnings,
+                ));
+                Plan {
+                    name,
+                    cuts,
+                    start_cap: CapKind::Open,
+                    end_cap: CapKind::dome(),
+                    tip: axis.points.last().copied(),
+                }
+            }
+            _ => {
+                // Legs: evenly to the ankle, finely below it to the sole.
+                let ankle_kind = if name == PartName::LeftLeg {
+                    LandmarkKind::LeftAnkle
+                } else {
+                    LandmarkKind::RightAnkle
+                };
+                let orig = seg0.part(name).map(PartAxis::length).unwrap_or(len);
+                let ankle = landmark(&seg, ankle_kind)
+                    .map(|a| fraction_of(axis, a))
+                    .unwrap_or(orig / len)
+                    .min(orig / len);
+                let t0 = fraction_at_level(axis, up, crotch_level - margin, false);
+                let upper = (ankle - 0.02 * h / len).max(t0);
+                let mut cuts = cut_all(
+                    body,
+                    &seg,
+                    name,
+                    &fractions(t0, upper, step),
+                    opts,
+                    &mut warnings,
+                );
+                cuts.pop();
+                // Below the ankle: horizontal outlines of the foot until
+                // they shrink where the sole curves up (heel, toes).
+                let foot = ReconstructOptions {
+                    end_area_fraction: opts.sole_area_fraction,
+                    ..*opts
+                };
+                cuts.extend(cut_to_rounded_end(
+                    body,
+                    &seg,
+                    name,
+                    upper,
+                    ankle,
+                    opts.foot_spacing * h / len,
+                    &foot,
+                    &mut warnings,
+                ));
+                // The sole: a shallow dome from the last outline down to
+                // the floor below its centre.
+                let sole = cuts.last().map(|c| {
+                    let o = c.fit.curve.frame.origin;
+                    o - up * (o.dot(up) - floor)
+                });
+                Plan {
+                    name,
+                    cuts,
+                    start_cap: CapKind::Open,
+                    end_cap: CapKind::Flat,
+                    tip: sole,
+                }
+            }
+        };
+        plans.push(plan);
+    }
+
+    progress("skinning");
+    let input = match body {
+        BodyGeometry::Mesh(m) => InputDistance::Mesh(MeshDistance::new(m)),
+        BodyGeometry::Cloud(c) => InputDistance::Cloud(PointGrid::new(&c.positions, 0.01 * h)),
+    };
+    let mut parts = Vec::new();
+    for plan in plans {
+        let name = plan.name;
+        progress(&format!("skinning and refining: {name}"));
+        match refine(body, &seg, plan, opts, &input, &mut warnings) {
+            Ok(p) => parts.push(p),
+            Err(e) if name != PartName::Torso => {
+                warnings.push(format!("{name} left out: {e}"));
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    let model = Body {
+        units: opts.units,
+        frame: seg.frame,
+        height: h,
+        parts,
+    };
+    progress("measuring");
+    let report = measure(body, &model, &seg0, opts, warnings)?;
+    Ok((model, report))
+}
+
+/// Convenience for a cloud input.
+pub fn reconstruct_cloud(
+    cloud: &PointCloud,
+    opts: &ReconstructOptions,
+) -> Result<(Body, Report), ReconstructError> {
+    reconstruct(BodyGeometry::Cloud(cloud), opts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sphere_is_a_clear_error() {
+        let m = crate::shapes::uv_sphere(Vec3::ZERO, 1.0, 32, 16);
+        let e = reconstruct(BodyGeometry::Mesh(&m), &ReconstructOptions::default()).unwrap_err();
+        assert!(
+            matches!(e, ReconstructError::Segment(SegmentError::NoUpAxis { .. })),
+            "{e}"
+        );
+    }
+}

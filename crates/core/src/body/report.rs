@@ -1,0 +1,329 @@
+//! The [`Report`]: how well and how compactly a [`Body`] fits its input.
+
+use super::*;
+
+/// Per-part numbers of the [`Report`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartReport {
+    pub name: PartName,
+    pub sections: usize,
+    /// Orders used: minimum, median, maximum.
+    pub orders: (usize, usize, usize),
+    /// Worst `E_a` and `E_M` over the part's sections.
+    pub worst_ea: Real,
+    pub worst_em: Real,
+    /// Sections that met the tolerances.
+    pub met: usize,
+    /// The ellipse baseline's worst `E_a` and `E_M`.
+    pub ellipse_worst_ea: Real,
+    pub ellipse_worst_em: Real,
+    pub design_parameters: usize,
+}
+
+/// Distance statistics in millimetres.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DistanceMm {
+    pub rms: Real,
+    pub p95: Real,
+    pub max: Real,
+}
+
+impl DistanceMm {
+    fn of(s: &DistanceStats, mm: Real) -> DistanceMm {
+        DistanceMm {
+            rms: s.rms * mm,
+            p95: s.p95 * mm,
+            max: s.max * mm,
+        }
+    }
+}
+
+/// How well and how compactly the model fits its input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Report {
+    /// The model's design parameters (method.md §7).
+    pub design_parameters: usize,
+    /// The input's vertex (mesh) or point (cloud) count; the polygon
+    /// baseline is `3 × input_vertices`.
+    pub input_vertices: usize,
+    /// Symmetric distance: `rms = √((rms_in² + rms_out²)/2)`, `p95` and
+    /// `max` the larger of the two directions'.
+    pub distance_mm: DistanceMm,
+    /// Input → model: input surface samples (mesh) or points (cloud) to
+    /// the model's surface.
+    pub input_to_model_mm: DistanceMm,
+    /// Model → input: model surface samples to the input's surface (mesh)
+    /// or nearest input point (cloud).
+    pub model_to_input_mm: DistanceMm,
+    /// Share of input samples within [`ReconstructOptions::coverage_mm`]
+    /// of the model.
+    pub coverage: Real,
+    pub parts: Vec<PartReport>,
+    /// Parts the segmentation found (feet included).
+    pub parts_found: Vec<PartName>,
+    pub warnings: Vec<String>,
+}
+
+impl Report {
+    /// `design_parameters / (3 × input_vertices)`.
+    pub fn parameter_ratio(&self) -> Real {
+        self.design_parameters as Real / (3 * self.input_vertices.max(1)) as Real
+    }
+}
+
+/// The per-part numbers of a body.
+pub fn part_reports(body: &Body) -> Vec<PartReport> {
+    body.parts
+        .iter()
+        .map(|p| {
+            let mut orders: Vec<usize> = p.fits.iter().map(|f| f.order).collect();
+            orders.sort_unstable();
+            let med = orders.get(orders.len() / 2).copied().unwrap_or(0);
+            let fold = |f: &dyn Fn(&SectionFit) -> Real| p.fits.iter().map(f).fold(0.0, Real::max);
+            PartReport {
+                name: p.name,
+                sections: p.fits.len(),
+                orders: (
+                    orders.first().copied().unwrap_or(0),
+                    med,
+                    orders.last().copied().unwrap_or(0),
+                ),
+                worst_ea: fold(&|f| f.ea),
+                worst_em: fold(&|f| f.em),
+                met: p.fits.iter().filter(|f| f.met).count(),
+                ellipse_worst_ea: fold(&|f| f.ellipse.map_or(0.0, |e| e.0)),
+                ellipse_worst_em: fold(&|f| f.ellipse.map_or(0.0, |e| e.1)),
+                design_parameters: p.part.design_parameters(),
+            }
+        })
+        .collect()
+}
+
+/// Deterministic subsample of at most `n` items (every k-th).
+fn every_kth(points: &[Point3], n: usize) -> Vec<Point3> {
+    let k = points.len().div_ceil(n.max(1)).max(1);
+    points.iter().step_by(k).copied().collect()
+}
+
+/// Measures `model` against its input `body` (see [`Report`]).
+pub fn measure(
+    body: BodyGeometry<'_>,
+    model: &Body,
+    seg: &Segmentation,
+    opts: &ReconstructOptions,
+    warnings: Vec<String>,
+) -> Result<Report, ReconstructError> {
+    let mm = opts.units.to_mm();
+    let tess = TessellationOptions {
+        target_edge: Some(opts.report_edge * model.height),
+        ..TessellationOptions::default()
+    };
+    let surface = model.tessellate(&tess)?;
+    let model_dist = MeshDistance::new(&surface);
+    let model_samples = sample_surface(&surface, opts.report_samples);
+    let (input_samples, input_count, out_d) = match body {
+        BodyGeometry::Mesh(m) => {
+            let input = MeshDistance::new(m);
+            let d: Vec<Real> = model_samples.iter().map(|p| input.distance(*p)).collect();
+            (sample_surface(m, opts.report_samples), m.positions.len(), d)
+        }
+        BodyGeometry::Cloud(c) => {
+            let grid = PointGrid::new(&c.positions, 0.01 * model.height);
+            let d: Vec<Real> = model_samples.iter().map(|p| grid.nearest(*p)).collect();
+            (
+                every_kth(&c.positions, opts.report_samples),
+                c.positions.len(),
+                d,
+            )
+        }
+    };
+    let in_d: Vec<Real> = input_samples
+        .iter()
+        .map(|p| model_dist.distance(*p))
+        .collect();
+    let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
+    let a = DistanceMm::of(&DistanceStats::of(&in_d), mm);
+    let b = DistanceMm::of(&DistanceStats::of(&out_d), mm);
+    Ok(Report {
+        design_parameters: model.design_parameters(),
+        input_vertices: input_count,
+        distance_mm: DistanceMm {
+            rms: ((a.rms * a.rms + b.rms * b.rms) / 2.0).sqrt(),
+            p95: a.p95.max(b.p95),
+            max: a.max.max(b.max),
+        },
+        input_to_model_mm: a,
+        model_to_input_mm: b,
+        coverage: covered as Real / in_d.len().max(1) as Real,
+        parts: part_reports(model),
+        parts_found: seg.parts.iter().map(|p| p.name).collect(),
+        warnings,
+    })
+}
+
+/// A uniform grid over a point cloud for nearest-point distances: cells of
+/// side `cell`, hashed by integer coordinates; a query searches shells of
+/// cells outward until the shell's inner distance exceeds the best found.
+#[derive(Debug)]
+pub struct PointGrid<'a> {
+    points: &'a [Point3],
+    cell: Real,
+    origin: Point3,
+    dims: [usize; 3],
+    /// Start of each cell's run in `order` (prefix sums, length cells + 1).
+    starts: Vec<u32>,
+    order: Vec<u32>,
+}
+
+impl<'a> PointGrid<'a> {
+    /// Builds the grid; `cell` is clamped so there are at most ~4M cells.
+    pub fn new(points: &'a [Point3], cell: Real) -> PointGrid<'a> {
+        let fin = || points.iter().filter(|p| p.is_finite());
+        let mut lo = Vec3::new(Real::INFINITY, Real::INFINITY, Real::INFINITY);
+        let mut hi = -lo;
+        for p in fin() {
+            lo = Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z));
+            hi = Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z));
+        }
+        if !(lo.x <= hi.x) {
+            lo = Vec3::ZERO;
+            hi = Vec3::ZERO;
+        }
+        let ext = hi - lo;
+        let mut cell = if cell.is_finite() && cell > 0.0 {
+            cell
+        } else {
+            1.0
+        };
+        let vol = (ext.x / cell + 1.0) * (ext.y / cell + 1.0) * (ext.z / cell + 1.0);
+        if vol > 4.0e6 {
+            cell *= (vol / 4.0e6).cbrt();
+        }
+        let dims = [
+            (ext.x / cell) as usize + 1,
+            (ext.y / cell) as usize + 1,
+            (ext.z / cell) as usize + 1,
+        ];
+        let n = dims[0] * dims[1] * dims[2];
+        let mut grid = PointGrid {
+            points,
+            cell,
+            origin: lo,
+            dims,
+            starts: vec![0; n + 1],
+            order: Vec::new(),
+        };
+        let keys: Vec<Option<usize>> = points
+            .iter()
+            .map(|p| p.is_finite().then(|| grid.key(grid.coords(*p))))
+            .collect();
+        for k in keys.iter().flatten() {
+            grid.starts[k + 1] += 1;
+        }
+        for i in 0..n {
+            grid.starts[i + 1] += grid.starts[i];
+        }
+        let mut fill = grid.starts.clone();
+        grid.order = vec![0; grid.starts[n] as usize];
+        for (i, k) in keys.iter().enumerate() {
+            if let Some(k) = k {
+                grid.order[fill[*k] as usize] = i as u32;
+                fill[*k] += 1;
+            }
+        }
+        grid
+    }
+
+    fn coords(&self, p: Point3) -> [i64; 3] {
+        let d = (p - self.origin) / self.cell;
+        [d.x.floor() as i64, d.y.floor() as i64, d.z.floor() as i64]
+    }
+
+    fn key(&self, c: [i64; 3]) -> usize {
+        let cl = |v: i64, n: usize| v.clamp(0, n as i64 - 1) as usize;
+        (cl(c[2], self.dims[2]) * self.dims[1] + cl(c[1], self.dims[1])) * self.dims[0]
+            + cl(c[0], self.dims[0])
+    }
+
+    /// Distance from `p` to the nearest point (infinite for an empty cloud).
+    pub fn nearest(&self, p: Point3) -> Real {
+        if self.order.is_empty() || !p.is_finite() {
+            return Real::INFINITY;
+        }
+        let c = self.coords(p);
+        let clamp = |v: i64, n: usize| v.clamp(0, n as i64 - 1);
+        let cc = [
+            clamp(c[0], self.dims[0]),
+            clamp(c[1], self.dims[1]),
+            clamp(c[2], self.dims[2]),
+        ];
+        // Distance from p to its projection q on the grid's box: for x in
+        // the (convex) box, |p - x|² ≥ |p - q|² + |q - x|².
+        let hi = self.origin
+            + Vec3::new(
+                self.dims[0] as Real * self.cell,
+                self.dims[1] as Real * self.cell,
+                self.dims[2] as Real * self.cell,
+            );
+        let q = Vec3::new(
+            p.x.clamp(self.origin.x, hi.x),
+            p.y.clamp(self.origin.y, hi.y),
+            p.z.clamp(self.origin.z, hi.z),
+        );
+        let outside2 = (p - q).norm_squared();
+        let maxr = *self.dims.iter().max().unwrap_or(&1) as i64;
+        let mut best = Real::INFINITY;
+        for r in 0..=maxr {
+            // Every point in shell r is at least (r - 1) cells from q.
+            let inner = ((r - 1).max(0) as Real) * self.cell;
+            if best.is_finite() && (outside2 + inner * inner).sqrt() > best {
+                break;
+            }
+            for dz in -r..=r {
+                for dy in -r..=r {
+                    for dx in -r..=r {
+                        if dx.abs().max(dy.abs()).max(dz.abs()) != r {
+                            continue;
+                        }
+                        let q = [cc[0] + dx, cc[1] + dy, cc[2] + dz];
+                        if (0..3).any(|i| q[i] < 0 || q[i] >= self.dims[i] as i64) {
+                            continue;
+                        }
+                        let k = self.key(q);
+                        for &i in &self.order[self.starts[k] as usize..self.starts[k + 1] as usize]
+                        {
+                            best = best.min(self.points[i as usize].distance(p));
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_nearest_matches_brute_force() {
+        let mut rng = crate::scanner::Rng::new(7);
+        let pts: Vec<Point3> = (0..2000)
+            .map(|_| Vec3::new(rng.uniform(), 2.0 * rng.uniform(), rng.uniform()))
+            .collect();
+        let grid = PointGrid::new(&pts, 0.05);
+        for _ in 0..200 {
+            let q = Vec3::new(
+                3.0 * rng.uniform() - 1.0,
+                3.0 * rng.uniform() - 0.5,
+                rng.uniform(),
+            );
+            let brute = pts
+                .iter()
+                .map(|p| p.distance(q))
+                .fold(Real::INFINITY, Real::min);
+            assert!((grid.nearest(q) - brute).abs() < 1e-12, "{q:?}");
+        }
+    }
+}

@@ -1,0 +1,163 @@
+//! How reconstruction fares on bodies it was not developed on: one body
+//! re-posed and re-shaped (arms raised toward a T-pose, arms lowered,
+//! legs spread, a wider body, a shorter one), each as a mesh and as its
+//! virtual scan. A crude linear-blend re-posing: arm (leg) vertices turn
+//! about the shoulder (hip) with a weight that ramps from 0 at the joint
+//! to 1 a fifth of the limb further, so the surface stays connected.
+//!
+//! ```text
+//! cargo run --release -p trigbody-io --example pose_variants [BODY]
+//! ```
+
+use trigbody_core::body::{reconstruct, ReconstructOptions, Report};
+use trigbody_core::scanner::{virtual_scan, ScannerOptions};
+use trigbody_core::segment::{segment, BodyGeometry, PartAxis, PartName, SegmentOptions};
+use trigbody_core::{Mesh, Point3, Real, Vec3};
+use trigbody_io::{read_mesh, ReadOptions};
+
+/// Closest point parameter (arc-length fraction) and distance of `p` to an
+/// axis polyline.
+fn on_axis(axis: &PartAxis, p: Point3) -> (Real, Real) {
+    let len = axis.length().max(1e-12);
+    let (mut best, mut at, mut run) = (Real::INFINITY, 0.0, 0.0);
+    for w in axis.points.windows(2) {
+        let d = w[1] - w[0];
+        let l = d.norm();
+        let s = if l > 0.0 {
+            ((p - w[0]).dot(d) / (l * l)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dist = (w[0] + d * s).distance(p);
+        if dist < best {
+            best = dist;
+            at = (run + s * l) / len;
+        }
+        run += l;
+    }
+    (at, best)
+}
+
+/// Rodrigues rotation of `v` about unit `k` by `angle`.
+fn rotate(v: Vec3, k: Vec3, angle: Real) -> Vec3 {
+    let (s, c) = angle.sin_cos();
+    v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c))
+}
+
+/// Turns the vertices of `limbs` about their first axis point, about
+/// `pivot_axis`, by `angle` (signed per limb so that positive lifts the
+/// limb away from the body's midline).
+fn repose(mesh: &Mesh, limbs: &[PartName], angle: Real) -> Mesh {
+    let seg = segment(BodyGeometry::Mesh(mesh), &SegmentOptions::default()).expect("segments");
+    let axes: Vec<&PartAxis> = seg.parts.iter().collect();
+    let front = seg.frame.front;
+    let mut out = mesh.clone();
+    for (i, p) in mesh.positions.iter().enumerate() {
+        // The part this vertex belongs to: the nearest axis relative to its size.
+        let (owner, _) = axes
+            .iter()
+            .map(|a| {
+                let (t, d) = on_axis(a, *p);
+                (a.name, t, d / a.max_radius().max(1e-9))
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(n, t, _)| (n, t))
+            .unwrap();
+        // A foot turns with its leg.
+        let owner = match owner {
+            PartName::LeftFoot => PartName::LeftLeg,
+            PartName::RightFoot => PartName::RightLeg,
+            o => o,
+        };
+        if !limbs.contains(&owner) {
+            continue;
+        }
+        let (t, _) = on_axis(seg.part(owner).unwrap(), *p);
+        let axis = seg.part(owner).unwrap();
+        let pivot = axis.points[0];
+        let dir = *axis.points.last().unwrap() - pivot;
+        // Positive angle: the limb's far end moves away from the midline.
+        let side = if dir.dot(seg.frame.left) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        let w = (t / 0.2).clamp(0.0, 1.0);
+        let w = w * w * (3.0 - 2.0 * w);
+        let k = front * side;
+        out.positions[i] = pivot + rotate(*p - pivot, k, angle * w);
+    }
+    out.normals = None;
+    out
+}
+
+fn scaled(mesh: &Mesh, up: Vec3, across: Real, along: Real) -> Mesh {
+    let mut out = mesh.clone();
+    for p in out.positions.iter_mut() {
+        let h = p.dot(up);
+        let flat = *p - up * h;
+        *p = flat * across + up * (h * along);
+    }
+    out.normals = None;
+    out
+}
+
+fn row(name: &str, r: &Report) {
+    println!(
+        "{name:<34} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | coverage {:>6.2} % | params {:>5.1} % | warnings {}",
+        r.parts.len(),
+        r.parts_found.len(),
+        r.distance_mm.rms,
+        r.distance_mm.p95,
+        r.distance_mm.max,
+        100.0 * r.coverage,
+        100.0 * r.parameter_ratio(),
+        r.warnings.len()
+    );
+}
+
+fn main() {
+    let path = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "data/bodies/mh_male.obj".to_string());
+    let mesh = read_mesh(&path, &ReadOptions::default()).expect("reads the body");
+    let seg = segment(BodyGeometry::Mesh(&mesh), &SegmentOptions::default()).expect("segments");
+    let up = seg.frame.up;
+    let arms = [PartName::LeftArm, PartName::RightArm];
+    let legs = [PartName::LeftLeg, PartName::RightLeg];
+    let deg = std::f64::consts::PI / 180.0;
+    let variants: Vec<(&str, Mesh)> = vec![
+        ("as given", mesh.clone()),
+        ("arms raised 30 deg", repose(&mesh, &arms, 30.0 * deg)),
+        ("arms raised 45 deg (about T)", repose(&mesh, &arms, 45.0 * deg)),
+        ("arms lowered 15 deg", repose(&mesh, &arms, -15.0 * deg)),
+        ("legs spread 8 deg", repose(&mesh, &legs, 8.0 * deg)),
+        ("wider x1.25", scaled(&mesh, up, 1.25, 1.0)),
+        ("shorter x0.85", scaled(&mesh, up, 1.0, 0.85)),
+    ];
+    let opts = ReconstructOptions::default();
+    for (name, m) in &variants {
+        match reconstruct(BodyGeometry::Mesh(m), &opts) {
+            Ok((_, r)) => row(name, &r),
+            Err(e) => println!("{name:<34} error: {e}"),
+        }
+        let scan = virtual_scan(m, &ScannerOptions::default()).expect("scans");
+        let label = format!("{name}, scan");
+        match reconstruct(BodyGeometry::Cloud(&scan.cloud), &opts) {
+            Ok((_, r)) => row(&label, &r),
+            Err(e) => println!("{label:<34} error: {e}"),
+        }
+        if std::env::var("WRITE").is_ok() {
+            let file = format!("/tmp/pose-{}.obj", name.replace([' ', '(', ')'], "_"));
+            trigbody_io::write_mesh(
+                &file,
+                m,
+                &trigbody_io::WriteOptions {
+                    overwrite: true,
+                    ..Default::default()
+                },
+            )
+            .expect("writes");
+        }
+    }
+}

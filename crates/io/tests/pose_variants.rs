@@ -1,13 +1,15 @@
-//! How reconstruction fares on bodies it was not developed on: one body
-//! re-posed and re-shaped (arms raised toward a T-pose, arms lowered,
-//! legs spread, a wider body, a shorter one), each as a mesh and as its
-//! virtual scan. A crude linear-blend re-posing: arm (leg) vertices turn
-//! about the shoulder (hip) with a weight that ramps from 0 at the joint
-//! to 1 a fifth of the limb further, so the surface stays connected.
+//! How reconstruction fares on bodies it was not developed on: the
+//! built-in body re-posed (arms raised toward a T-pose, legs spread) and
+//! re-shaped (a shorter, wider body), each as a mesh and as its virtual
+//! scan. A crude linear-blend re-posing: arm (leg) vertices turn about the
+//! shoulder (hip) with a weight that ramps from 0 at the joint to 1 a fifth
+//! of the limb further, so the surface stays connected.
 //!
-//! ```text
-//! cargo run --release -p trigbody-io --example pose_variants [BODY]
-//! ```
+//! `cargo test --release -p trigbody-io --test pose_variants -- --nocapture`
+//! prints the table. The issue-5 targets are printed as met or not; the
+//! assertions guard what every variant must give (all parts found and
+//! built, a report within loose bounds), so a crash or a lost part fails
+//! while the open accuracy targets stay visible.
 
 use trigbody_core::body::{reconstruct, ReconstructOptions, Report};
 use trigbody_core::scanner::{virtual_scan, ScannerOptions};
@@ -103,8 +105,9 @@ fn scaled(mesh: &Mesh, up: Vec3, across: Real, along: Real) -> Mesh {
 }
 
 fn row(name: &str, r: &Report) {
+    let ok = |b: bool| if b { "met" } else { "NOT met" };
     println!(
-        "{name:<34} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | coverage {:>6.2} % | params {:>5.1} % | warnings {}",
+        "{name:<30} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | coverage {:>6.2} % | params {:>5.1} % | targets rms {} p95 {} coverage {}",
         r.parts.len(),
         r.parts_found.len(),
         r.distance_mm.rms,
@@ -112,52 +115,47 @@ fn row(name: &str, r: &Report) {
         r.distance_mm.max,
         100.0 * r.coverage,
         100.0 * r.parameter_ratio(),
-        r.warnings.len()
+        ok(r.distance_mm.rms <= 2.5),
+        ok(r.distance_mm.p95 <= 6.0),
+        ok(r.coverage >= 0.98),
     );
 }
 
-fn main() {
-    let path = std::env::args()
-        .nth(1)
-        .unwrap_or_else(|| "data/bodies/mh_male.obj".to_string());
-    let mesh = read_mesh(&path, &ReadOptions::default()).expect("reads the body");
+fn check(name: &str, r: &Report) {
+    row(name, r);
+    assert_eq!(r.parts_found.len(), 8, "{name}: {:?}", r.parts_found);
+    assert_eq!(r.parts.len(), 6, "{name}: {:?}", r.warnings);
+    // Loose guards (measured at the time of writing: rms 4.4-18 mm,
+    // coverage 87-97 %): a lost limb or a model far off the body fails.
+    assert!(r.distance_mm.rms < 30.0, "{name}: {:?}", r.distance_mm);
+    assert!(r.coverage > 0.8, "{name}: {}", r.coverage);
+    assert!(r.parameter_ratio() < 0.3, "{name}: {}", r.parameter_ratio());
+}
+
+#[test]
+fn re_posed_and_re_shaped_bodies_reconstruct() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
+    let mesh = read_mesh(&path, &ReadOptions::default()).expect("reads the built-in body");
     let seg = segment(BodyGeometry::Mesh(&mesh), &SegmentOptions::default()).expect("segments");
     let up = seg.frame.up;
     let arms = [PartName::LeftArm, PartName::RightArm];
     let legs = [PartName::LeftLeg, PartName::RightLeg];
     let deg = std::f64::consts::PI / 180.0;
     let variants: Vec<(&str, Mesh)> = vec![
-        ("as given", mesh.clone()),
-        ("arms raised 30 deg", repose(&mesh, &arms, 30.0 * deg)),
-        ("arms raised 45 deg (about T)", repose(&mesh, &arms, 45.0 * deg)),
-        ("arms lowered 15 deg", repose(&mesh, &arms, -15.0 * deg)),
+        (
+            "arms raised 45 deg (about T)",
+            repose(&mesh, &arms, 45.0 * deg),
+        ),
         ("legs spread 8 deg", repose(&mesh, &legs, 8.0 * deg)),
-        ("wider x1.25", scaled(&mesh, up, 1.25, 1.0)),
-        ("shorter x0.85", scaled(&mesh, up, 1.0, 0.85)),
+        ("shorter x0.85, wider x1.1", scaled(&mesh, up, 1.1, 0.85)),
     ];
     let opts = ReconstructOptions::default();
     for (name, m) in &variants {
-        match reconstruct(BodyGeometry::Mesh(m), &opts) {
-            Ok((_, r)) => row(name, &r),
-            Err(e) => println!("{name:<34} error: {e}"),
-        }
+        let (_, r) = reconstruct(BodyGeometry::Mesh(m), &opts).expect(name);
+        check(name, &r);
         let scan = virtual_scan(m, &ScannerOptions::default()).expect("scans");
-        let label = format!("{name}, scan");
-        match reconstruct(BodyGeometry::Cloud(&scan.cloud), &opts) {
-            Ok((_, r)) => row(&label, &r),
-            Err(e) => println!("{label:<34} error: {e}"),
-        }
-        if std::env::var("WRITE").is_ok() {
-            let file = format!("/tmp/pose-{}.obj", name.replace([' ', '(', ')'], "_"));
-            trigbody_io::write_mesh(
-                &file,
-                m,
-                &trigbody_io::WriteOptions {
-                    overwrite: true,
-                    ..Default::default()
-                },
-            )
-            .expect("writes");
-        }
+        let (_, r) = reconstruct(BodyGeometry::Cloud(&scan.cloud), &opts).expect(name);
+        check(&format!("{name}, scan"), &r);
     }
 }

@@ -350,6 +350,15 @@ pub(super) fn build_part(
                 ));
                 cuts.remove(k);
             }
+            Err(PartError::MixedFrames { index, .. }) if cuts.len() > 2 => {
+                // The axis doubles back there (a wobbly scanned joint): the
+                // section faces against the part's run; drop it, not the part.
+                warnings.push(format!(
+                    "{name}: section at {:.3} dropped (it faces against the part's run)",
+                    cuts[index].at
+                ));
+                cuts.remove(index);
+            }
             Err(source) => return Err(ReconstructError::Part { part: name, source }),
         }
     }

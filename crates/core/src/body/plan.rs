@@ -310,7 +310,7 @@ pub(super) enum InputDistance<'a> {
 }
 
 impl InputDistance<'_> {
-    fn distance(&self, p: Point3) -> Real {
+    pub(super) fn distance(&self, p: Point3) -> Real {
         match self {
             InputDistance::Mesh(m) => m.distance(p),
             InputDistance::Cloud(g) => g.nearest(p),

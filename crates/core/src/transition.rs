@@ -133,10 +133,7 @@ fn part_end(part: &Part, start: bool, outward: bool) -> (SpaceCurve, SpaceCurve)
         &curves[curves.len() - 1]
     };
     let t = part.end_tangent(start);
-    (
-        c.world_series(),
-        if outward { t } else { scale(&t, -1.0) },
-    )
+    (c.world_series(), if outward { t } else { scale(&t, -1.0) })
 }
 
 /// The discrete Fourier series of order `order` of equally spaced samples.
@@ -419,7 +416,10 @@ impl Transition {
                 let v = TAU * i as Real / 16.0;
                 (0..samples)
                     .map(|k| {
-                        let (a, b) = (k as Real / samples as Real, (k + 1) as Real / samples as Real);
+                        let (a, b) = (
+                            k as Real / samples as Real,
+                            (k + 1) as Real / samples as Real,
+                        );
                         self.patch.point(a, v).distance(self.patch.point(b, v))
                     })
                     .sum::<Real>()
@@ -605,7 +605,10 @@ mod tests {
         };
         let dist = |p: Point3| ((p.x * p.x + p.y * p.y).sqrt() - radius_at(p.z)).abs();
         let m = fit_magnitudes(&[p0, t0, p1, t1], &dist).unwrap();
-        assert!((m[0] - 0.5).abs() < 1e-12 && (m[1] - 1.5).abs() < 1e-12, "{m:?}");
+        assert!(
+            (m[0] - 0.5).abs() < 1e-12 && (m[1] - 1.5).abs() < 1e-12,
+            "{m:?}"
+        );
     }
 
     /// A seam splits a wide ellipse into halves that meet on the seam,

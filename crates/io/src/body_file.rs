@@ -1,7 +1,7 @@
 //! A reconstructed [`Body`] as a model file (version 2) and its [`Report`]
 //! as JSON.
 
-use crate::model::{Model, ModelBody, ModelPart};
+use crate::model::{Model, ModelBody, ModelPart, ModelTransition};
 use serde_json::{json, Value};
 use trigbody_core::body::{Body, DistanceMm, Report};
 use trigbody_core::segment::PartName;
@@ -39,6 +39,15 @@ pub fn model_of_body(body: &Body) -> Model {
             .map(|p| ModelPart {
                 name: part_file_name(p.name).to_string(),
                 part: p.part.clone(),
+            })
+            .collect(),
+        transitions: body
+            .transitions
+            .iter()
+            .map(|t| ModelTransition {
+                from: part_file_name(t.from).to_string(),
+                to: part_file_name(t.to).to_string(),
+                transition: t.transition.clone(),
             })
             .collect(),
     }

@@ -630,16 +630,7 @@ fn assemble(
             .and_then(|c| {
                 let magnitudes = fit_magnitudes(&c, &distance)?;
                 let [p0, t0, p1, t1] = c;
-                Transition::hermite(
-                    p0,
-                    t0,
-                    p1,
-                    t1,
-                    TransitionSpec {
-                        magnitudes,
-                        ..spec
-                    },
-                )
+                Transition::hermite(p0, t0, p1, t1, TransitionSpec { magnitudes, ..spec })
             })
             .map(|transition| BodyTransition {
                 from: parts[from].name,

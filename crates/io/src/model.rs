@@ -27,15 +27,16 @@
 //! ```
 //!
 //! `body` (a reconstructed body's frame) is optional; version-1 files (no
-//! `body`, no `transitions`) are still read. The full schema is in
-//! `docs/model-format.md`.
+//! `body`, no `transitions`) are still read. A transition stores what the
+//! parts do not give (`from`/`to` part and end, the two tangent magnitudes,
+//! an optional seam and its order) and is rebuilt from the parts by
+//! [`Transition::between`]. The full schema is in `docs/model-format.md`.
 //!
 //! Curves keep the paper's coefficient layout (`a`, `b`, Eq. 3) and their
 //! plane frames; sections are stored as given (before twist alignment), so
 //! reading a file rebuilds exactly the part that was written (f64 values
 //! round-trip exactly: shortest representation out, correctly rounded in).
-//! The document is meant to grow: a body adds transitions and landmarks
-//! beside `parts`; readers ignore fields they do not know and refuse versions
+//! The document is meant to grow (landmarks beside `parts`); readers ignore fields they do not know and refuse versions
 //! they do not know.
 
 use serde::{Deserialize, Serialize};

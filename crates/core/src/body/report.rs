@@ -58,6 +58,14 @@ pub struct Report {
     /// Share of input samples within [`ReconstructOptions::coverage_mm`]
     /// of the model.
     pub coverage: Real,
+    /// Coverage of the input's outer surface: the share of input samples
+    /// within [`ReconstructOptions::coverage_mm`] among those not hidden
+    /// inside the input (a farther sample is hidden when no ray from it
+    /// escapes the input, [`crate::visibility`]: the inside of a modelled
+    /// mouth). Equal to `coverage` for a cloud (a scanner saw every point).
+    pub visible_coverage: Real,
+    /// Input samples farther than the coverage distance and hidden.
+    pub hidden_samples: usize,
     pub parts: Vec<PartReport>,
     /// Parts the segmentation found (feet included).
     pub parts_found: Vec<PartName>,
@@ -142,6 +150,16 @@ pub fn measure(
         .map(|p| model_dist.distance(*p))
         .collect();
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
+    let hidden = match body {
+        BodyGeometry::Mesh(m) => {
+            let vis = crate::visibility::Visibility::new(m);
+            in_d.iter()
+                .zip(&input_samples)
+                .filter(|(d, p)| **d * mm > opts.coverage_mm && vis.hidden(**p))
+                .count()
+        }
+        BodyGeometry::Cloud(_) => 0,
+    };
     let a = DistanceMm::of(&DistanceStats::of(&in_d), mm);
     let b = DistanceMm::of(&DistanceStats::of(&out_d), mm);
     Ok(Report {
@@ -155,6 +173,8 @@ pub fn measure(
         input_to_model_mm: a,
         model_to_input_mm: b,
         coverage: covered as Real / in_d.len().max(1) as Real,
+        visible_coverage: covered as Real / (in_d.len() - hidden).max(1) as Real,
+        hidden_samples: hidden,
         parts: part_reports(model),
         parts_found: seg.parts.iter().map(|p| p.name).collect(),
         warnings,

@@ -122,8 +122,10 @@ fn table(r: &Report) -> String {
     t.push_str(&d("  input->model", &r.input_to_model_mm));
     t.push_str(&d("  model->input", &r.model_to_input_mm));
     t.push_str(&format!(
-        "coverage {:.2} % of the input within 5 mm of the model\n",
-        100.0 * r.coverage
+        "coverage {:.2} % of the input within 5 mm of the model ({:.2} % of its outer surface: {} samples hidden inside it)\n",
+        100.0 * r.coverage,
+        100.0 * r.visible_coverage,
+        r.hidden_samples
     ));
     t
 }

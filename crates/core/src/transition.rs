@@ -30,7 +30,7 @@
 //! (its mean along the seam), fitted the same way.
 //!
 //! **Magnitudes** ([`fit_magnitudes`]): both are chosen on the grid
-//! `λ d`, `λ ∈ {¼, ½, ¾, 1, 1½, 2}`, `d` the distance between the boundary
+//! `λ d`, `λ ∈ {⅛, ¼, ½, ¾, 1, 1½, 2, 3}`, `d` the distance between the boundary
 //! curves' centres, minimizing the mean squared distance from the surface
 //! (12 × 48 samples strictly between the curves) to the input there.
 //!
@@ -51,7 +51,7 @@ use thiserror::Error;
 /// Samples of the half-loop (and its tangents) before the Fourier fit.
 const HALF_LOOP_SAMPLES: usize = 512;
 /// The magnitude grid, as multiples of the distance between the centres.
-pub const MAGNITUDE_GRID: [Real; 6] = [0.25, 0.5, 0.75, 1.0, 1.5, 2.0];
+pub const MAGNITUDE_GRID: [Real; 8] = [0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0];
 
 /// Why a transition could not be built.
 #[derive(Debug, Error, PartialEq)]

@@ -171,7 +171,13 @@ impl<'m> Visibility<'m> {
     }
 }
 
-fn build(bounds: &[Aabb], order: &mut [usize], start: usize, end: usize, nodes: &mut Vec<Node>) -> usize {
+fn build(
+    bounds: &[Aabb],
+    order: &mut [usize],
+    start: usize,
+    end: usize,
+    nodes: &mut Vec<Node>,
+) -> usize {
     let b = order[start..end]
         .iter()
         .map(|&t| bounds[t])

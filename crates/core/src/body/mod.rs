@@ -41,8 +41,18 @@
 //!    Sections whose loop cannot be cut or fitted are skipped with a
 //!    warning; when two consecutive planes cross inside the curves (where a
 //!    tilted axis turns), the later section is dropped.
-//! 4. **Report**: design parameters (method.md §7) against 3 × the input's
-//!    vertices, and distances both ways in millimetres (see [`Report`]).
+//! 4. **Transitions** ([`crate::transition`], method.md §6): each leg's
+//!    first section joins its half of the torso's first curve (split at
+//!    the crotch by the plane normal to the body's left axis, closed by a
+//!    seam dipping to the crotch's level) through a Hermite surface with
+//!    the parts' own end tangents, magnitudes fitted to the input; the two
+//!    close the torso's bottom (flat cap instead if one cannot be built).
+//!    Torso and head get one where their end sections are apart (on the
+//!    shared bodies they share the neck's plane, so none is built).
+//! 5. **Report**: design parameters (method.md §7, transitions included)
+//!    against 3 × the input's vertices, and distances both ways in
+//!    millimetres, coverage of the whole input and of its outer surface
+//!    (see [`Report`]).
 //!
 //! Nothing here knows units, coordinates or vertex order: lengths are
 //! fractions of `H`; [`ReconstructOptions::units`] only converts the

@@ -122,9 +122,10 @@ fn table(r: &Report) -> String {
     t.push_str(&d("  input->model", &r.input_to_model_mm));
     t.push_str(&d("  model->input", &r.model_to_input_mm));
     t.push_str(&format!(
-        "coverage {:.2} % of the input within 5 mm of the model ({:.2} % of its outer surface: {} samples hidden inside it)\n",
+        "coverage {:.2} % of the input within 5 mm of the model ({:.2} % of its outer surface, rms {:.2} mm there: {} samples hidden inside it)\n",
         100.0 * r.coverage,
         100.0 * r.visible_coverage,
+        r.visible_rms_mm,
         r.hidden_samples
     ));
     t

@@ -61,7 +61,8 @@ fn mm(d: &DistanceMm) -> Value {
 /// `polygon_parameters` (3 × vertices), `parameter_ratio`, `distance_mm`
 /// (symmetric) with `input_to_model_mm` and `model_to_input_mm`,
 /// `coverage` (0-1), `visible_coverage` (coverage of the input's outer
-/// surface, see [`Report::visible_coverage`]) and `hidden_samples`, `parts` (per part: sections, orders {min, median, max},
+/// surface, see [`Report::visible_coverage`]), `hidden_samples` and
+/// `visible_rms_mm` (the symmetric RMS without them), `parts` (per part: sections, orders {min, median, max},
 /// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
 /// worst E_a/E_M, design parameters), `parts_found` and `warnings`.
 pub fn report_json(report: &Report) -> Value {
@@ -76,6 +77,7 @@ pub fn report_json(report: &Report) -> Value {
         "coverage": report.coverage,
         "visible_coverage": report.visible_coverage,
         "hidden_samples": report.hidden_samples,
+        "visible_rms_mm": report.visible_rms_mm,
         "parts": report.parts.iter().map(|p| json!({
             "name": part_file_name(p.name),
             "sections": p.sections,

@@ -21,7 +21,7 @@ use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 fn print_row(name: &str, r: &Report) {
     let ok = |b: bool| if b { "met" } else { "NOT met" };
     println!(
-        "{name:<28} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | in->model rms {:>5.2} p95 {:>5.2} | model->in rms {:>5.2} p95 {:>5.2} | coverage {:>6.2} % (outer surface {:>6.2} %) | params {:>5} / 3x{} = {:>5.1} %",
+        "{name:<28} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | in->model rms {:>5.2} p95 {:>5.2} | model->in rms {:>5.2} p95 {:>5.2} | coverage {:>6.2} % (outer surface {:>6.2} %, rms {:>5.2}) | params {:>5} / 3x{} = {:>5.1} %",
         r.parts.len(),
         r.parts_found.len(),
         r.distance_mm.rms,
@@ -33,6 +33,7 @@ fn print_row(name: &str, r: &Report) {
         r.model_to_input_mm.p95,
         100.0 * r.coverage,
         100.0 * r.visible_coverage,
+        r.visible_rms_mm,
         r.design_parameters,
         r.input_vertices,
         100.0 * r.parameter_ratio()

@@ -13,7 +13,8 @@
 //!
 //! Rays are cast through a bounding-volume hierarchy (median splits on the
 //! longest axis, leaves of at most 4 triangles; slab test for boxes,
-//! Möller-Trumbore for triangles).
+//! nearer child first, any hit ends the ray; Möller-Trumbore for
+//! triangles).
 
 use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Aabb, Mesh};
@@ -57,9 +58,9 @@ fn union(a: Aabb, b: Aabb) -> Aabb {
     }
 }
 
-/// The parameter where the ray `o + t d` enters the box, if it does for
-/// `t < t_max` (`inv` = componentwise `1/d`).
-fn ray_box(b: &Aabb, o: Point3, inv: Vec3, t_max: Real) -> bool {
+/// The parameter where the ray `o + t d` enters the box (0 from inside),
+/// if it does for `t < t_max` (`inv` = componentwise `1/d`).
+fn ray_box(b: &Aabb, o: Point3, inv: Vec3, t_max: Real) -> Option<Real> {
     let (mut t0, mut t1) = (0.0, t_max);
     for (lo, hi, o, inv) in [
         (b.min.x, b.max.x, o.x, inv.x),
@@ -69,7 +70,7 @@ fn ray_box(b: &Aabb, o: Point3, inv: Vec3, t_max: Real) -> bool {
         if !inv.is_finite() {
             // Parallel to this slab: inside it or never.
             if o < lo || o > hi {
-                return false;
+                return None;
             }
             continue;
         }
@@ -82,10 +83,10 @@ fn ray_box(b: &Aabb, o: Point3, inv: Vec3, t_max: Real) -> bool {
             t1 = far;
         }
         if t0 > t1 {
-            return false;
+            return None;
         }
     }
-    true
+    Some(t0)
 }
 
 /// Möller-Trumbore: the ray parameter of the hit with triangle `abc`.
@@ -145,12 +146,16 @@ impl<'m> Visibility<'m> {
             return false;
         }
         let inv = Vec3::new(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
-        let mut stack = vec![0usize];
-        while let Some(i) = stack.pop() {
-            let node = &self.nodes[i];
-            if !ray_box(&node.bounds, o, inv, Real::INFINITY) {
-                continue;
-            }
+        if ray_box(&self.nodes[0].bounds, o, inv, Real::INFINITY).is_none() {
+            return false;
+        }
+        // Median splits keep the depth near log2(triangles / 4): a fixed
+        // stack of 64 is far more than a mesh of 2^32 triangles needs.
+        let mut stack = [0usize; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top]];
             if node.count > 0 {
                 for &t in &self.order[node.start..node.start + node.count] {
                     if ray_triangle(o, d, self.mesh.triangle(t)).is_some_and(|h| h > self.eps) {
@@ -158,8 +163,30 @@ impl<'m> Visibility<'m> {
                     }
                 }
             } else {
-                stack.push(node.left);
-                stack.push(node.right);
+                // Nearer child on top: a hidden point's rays meet the
+                // cavity's walls, close by, first.
+                let hit = |c: usize| ray_box(&self.nodes[c].bounds, o, inv, Real::INFINITY);
+                match (hit(node.left), hit(node.right)) {
+                    (Some(a), Some(b)) => {
+                        let (near, far) = if a <= b {
+                            (node.left, node.right)
+                        } else {
+                            (node.right, node.left)
+                        };
+                        stack[top] = far;
+                        stack[top + 1] = near;
+                        top += 2;
+                    }
+                    (Some(_), None) => {
+                        stack[top] = node.left;
+                        top += 1;
+                    }
+                    (None, Some(_)) => {
+                        stack[top] = node.right;
+                        top += 1;
+                    }
+                    (None, None) => {}
+                }
             }
         }
         false

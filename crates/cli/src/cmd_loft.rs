@@ -201,6 +201,7 @@ pub fn run(args: LoftArgs) -> Result<()> {
         units: args.units.clone(),
         body: None,
         parts: vec![ModelPart { name, part }],
+        transitions: Vec::new(),
     };
     let mut bytes = Vec::new();
     write_model(&mut bytes, &model)?;

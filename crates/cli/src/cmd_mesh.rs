@@ -94,15 +94,26 @@ pub fn run(args: MeshArgs) -> Result<()> {
             tessellate_part(&p.part, &options).map_err(|e| bad(format!("part '{}': {e}", p.name)))
         })
         .collect::<Result<Vec<Mesh>>>()?;
+    // Transitions: a grid of about the parts' resolution.
+    let mut meshes = meshes;
+    meshes.extend(model.transitions.iter().map(|t| match options.target_edge {
+        Some(e) => t.transition.tessellate_edge(e),
+        None => t.transition.tessellate(options.around, options.along),
+    }));
+    let transition_names: Vec<String> = model
+        .transitions
+        .iter()
+        .map(|t| format!("{}-{}", t.from, t.to))
+        .collect();
     if glb {
-        let named: Vec<NamedMesh> = model
+        let names = model
             .parts
             .iter()
+            .map(|p| p.name.as_str())
+            .chain(transition_names.iter().map(String::as_str));
+        let named: Vec<NamedMesh> = names
             .zip(&meshes)
-            .map(|(p, mesh)| NamedMesh {
-                name: &p.name,
-                mesh,
-            })
+            .map(|(name, mesh)| NamedMesh { name, mesh })
             .collect();
         let bytes = glb_bytes(&named)?;
         write_file(&args.output, &bytes, &[&args.model], args.force)?;

@@ -122,8 +122,11 @@ fn table(r: &Report) -> String {
     t.push_str(&d("  input->model", &r.input_to_model_mm));
     t.push_str(&d("  model->input", &r.model_to_input_mm));
     t.push_str(&format!(
-        "coverage {:.2} % of the input within 5 mm of the model\n",
-        100.0 * r.coverage
+        "coverage {:.2} % of the input within 5 mm of the model ({:.2} % of its outer surface, rms {:.2} mm there: {} samples hidden inside it)\n",
+        100.0 * r.coverage,
+        100.0 * r.visible_coverage,
+        r.visible_rms_mm,
+        r.hidden_samples
     ));
     t
 }
@@ -183,25 +186,37 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             target_edge: Some(0.004 * model.height),
             ..TessellationOptions::default()
         };
-        let meshes = model
+        let mut meshes = model
             .parts
             .iter()
             .map(|p| tessellate_part(&p.part, &tess))
             .collect::<Result<Vec<Mesh>, _>>()?;
+        // Transitions (one GLB node each, named `from-to`).
+        let transition_names: Vec<String> = model
+            .transitions
+            .iter()
+            .map(|t| format!("{}-{}", part_file_name(t.from), part_file_name(t.to)))
+            .collect();
+        meshes.extend(
+            model
+                .transitions
+                .iter()
+                .map(|t| t.transition.tessellate_edge(0.004 * model.height)),
+        );
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase())
             .unwrap_or_default();
         if ext == "glb" {
-            let named: Vec<NamedMesh> = model
+            let names = model
                 .parts
                 .iter()
+                .map(|p| part_file_name(p.name))
+                .chain(transition_names.iter().map(String::as_str));
+            let named: Vec<NamedMesh> = names
                 .zip(&meshes)
-                .map(|(p, mesh)| NamedMesh {
-                    name: part_file_name(p.name),
-                    mesh,
-                })
+                .map(|(name, mesh)| NamedMesh { name, mesh })
                 .collect();
             write_new(path, &glb_bytes(&named)?, args.force)?;
         } else if matches!(

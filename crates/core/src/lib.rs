@@ -35,6 +35,8 @@ pub mod segment;
 pub mod series;
 pub mod shapes;
 pub mod tessellate;
+pub mod transition;
+pub mod visibility;
 
 pub use body::{reconstruct, Body, BodyPart, ReconstructError, ReconstructOptions, Report, Units};
 pub use cap::{Cap, CapKind};

@@ -1,7 +1,7 @@
 //! A reconstructed [`Body`] as a model file (version 2) and its [`Report`]
 //! as JSON.
 
-use crate::model::{Model, ModelBody, ModelPart};
+use crate::model::{Model, ModelBody, ModelPart, ModelTransition};
 use serde_json::{json, Value};
 use trigbody_core::body::{Body, DistanceMm, Report};
 use trigbody_core::segment::PartName;
@@ -41,6 +41,15 @@ pub fn model_of_body(body: &Body) -> Model {
                 part: p.part.clone(),
             })
             .collect(),
+        transitions: body
+            .transitions
+            .iter()
+            .map(|t| ModelTransition {
+                from: part_file_name(t.from).to_string(),
+                to: part_file_name(t.to).to_string(),
+                transition: t.transition.clone(),
+            })
+            .collect(),
     }
 }
 
@@ -51,7 +60,9 @@ fn mm(d: &DistanceMm) -> Value {
 /// The report as JSON: `design_parameters`, `input_vertices`,
 /// `polygon_parameters` (3 × vertices), `parameter_ratio`, `distance_mm`
 /// (symmetric) with `input_to_model_mm` and `model_to_input_mm`,
-/// `coverage` (0-1), `parts` (per part: sections, orders {min, median, max},
+/// `coverage` (0-1), `visible_coverage` (coverage of the input's outer
+/// surface, see [`Report::visible_coverage`]), `hidden_samples` and
+/// `visible_rms_mm` (the symmetric RMS without them), `parts` (per part: sections, orders {min, median, max},
 /// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
 /// worst E_a/E_M, design parameters), `parts_found` and `warnings`.
 pub fn report_json(report: &Report) -> Value {
@@ -64,6 +75,9 @@ pub fn report_json(report: &Report) -> Value {
         "input_to_model_mm": mm(&report.input_to_model_mm),
         "model_to_input_mm": mm(&report.model_to_input_mm),
         "coverage": report.coverage,
+        "visible_coverage": report.visible_coverage,
+        "hidden_samples": report.hidden_samples,
+        "visible_rms_mm": report.visible_rms_mm,
         "parts": report.parts.iter().map(|p| json!({
             "name": part_file_name(p.name),
             "sections": p.sections,

@@ -27,21 +27,23 @@
 //! ```
 //!
 //! `body` (a reconstructed body's frame) is optional; version-1 files (no
-//! `body`, no `transitions`) are still read. The full schema is in
-//! `docs/model-format.md`.
+//! `body`, no `transitions`) are still read. A transition stores what the
+//! parts do not give (`from`/`to` part and end, the two tangent magnitudes,
+//! an optional seam and its order) and is rebuilt from the parts by
+//! [`Transition::between`]. The full schema is in `docs/model-format.md`.
 //!
 //! Curves keep the paper's coefficient layout (`a`, `b`, Eq. 3) and their
 //! plane frames; sections are stored as given (before twist alignment), so
 //! reading a file rebuilds exactly the part that was written (f64 values
 //! round-trip exactly: shortest representation out, correctly rounded in).
-//! The document is meant to grow: a body adds transitions and landmarks
-//! beside `parts`; readers ignore fields they do not know and refuse versions
+//! The document is meant to grow (landmarks beside `parts`); readers ignore fields they do not know and refuse versions
 //! they do not know.
 
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::io::{Read, Write};
 use thiserror::Error;
+use trigbody_core::transition::{Seam, Transition, TransitionError, TransitionSpec};
 use trigbody_core::{CapKind, Frame, Part, PartError, PartOptions, Skinning, TrigCurve, Vec3};
 
 /// The `format` field of every model file.
@@ -76,7 +78,20 @@ pub struct ModelBody {
     pub height: f64,
 }
 
-/// A model: named parts in one unit of length.
+/// A transition surface between two named parts (see
+/// [`trigbody_core::transition`]); rebuilt from the parts and its spec.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelTransition {
+    /// The part where the transition starts (`u = 0`).
+    pub from: String,
+    /// The part where it ends (`u = 1`).
+    pub to: String,
+    /// The surface.
+    pub transition: Transition,
+}
+
+/// A model: named parts in one unit of length, and the transitions between
+/// them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
     /// The unit of every coordinate, e.g. `"m"` (informational; never
@@ -86,6 +101,8 @@ pub struct Model {
     pub body: Option<ModelBody>,
     /// The parts, in file order.
     pub parts: Vec<ModelPart>,
+    /// Transition surfaces between parts, in file order.
+    pub transitions: Vec<ModelTransition>,
 }
 
 /// What is wrong with a model file (every message names the part and
@@ -166,6 +183,27 @@ pub enum ModelError {
         /// Why.
         #[source]
         source: PartError,
+    },
+    /// A transition names a part the model does not have.
+    #[error("transition {index}: no part named '{name}'")]
+    UnknownPart {
+        /// The transition's index.
+        index: usize,
+        /// The name found.
+        name: String,
+    },
+    /// A transition that cannot be built from its parts and spec.
+    #[error("transition {index} ('{from}' to '{to}'): {source}")]
+    Transition {
+        /// The transition's index.
+        index: usize,
+        /// Its `from` part.
+        from: String,
+        /// Its `to` part.
+        to: String,
+        /// Why.
+        #[source]
+        source: TransitionError,
     },
     /// Reading or writing failed.
     #[error("model I/O: {0}")]
@@ -518,7 +556,138 @@ pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
             })
         }
     };
-    Ok(Model { units, body, parts })
+    let transitions = match doc.get("transitions") {
+        None | Some(Value::Null) => Vec::new(),
+        Some(Value::Array(list)) => list
+            .iter()
+            .enumerate()
+            .map(|(index, v)| read_transition(index, v, &parts))
+            .collect::<Result<Vec<_>, _>>()?,
+        Some(_) => {
+            return Err(ModelError::Structure {
+                context: "model".to_string(),
+                message: "\"transitions\" must be a list".to_string(),
+            })
+        }
+    };
+    Ok(Model {
+        units,
+        body,
+        parts,
+        transitions,
+    })
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum EndRecord {
+    Start,
+    End,
+}
+
+#[derive(Serialize, Deserialize)]
+struct SeamRecord {
+    point: [f64; 3],
+    normal: [f64; 3],
+    up: [f64; 3],
+}
+
+#[derive(Serialize, Deserialize)]
+struct TransitionRecord {
+    from: String,
+    from_end: EndRecord,
+    to: String,
+    to_end: EndRecord,
+    magnitudes: [f64; 2],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    seam: Option<SeamRecord>,
+    #[serde(default = "default_order")]
+    order: usize,
+}
+
+fn default_order() -> usize {
+    12
+}
+
+fn read_transition(
+    index: usize,
+    v: &Value,
+    parts: &[ModelPart],
+) -> Result<ModelTransition, ModelError> {
+    let r: TransitionRecord =
+        serde_json::from_value(v.clone()).map_err(structure(format!("transition {index}")))?;
+    let find = |name: &str| {
+        parts
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| &p.part)
+            .ok_or_else(|| ModelError::UnknownPart {
+                index,
+                name: name.to_string(),
+            })
+    };
+    let (from, to) = (find(&r.from)?, find(&r.to)?);
+    let fin = |x: [f64; 3]| {
+        if x.iter().all(|c| c.is_finite()) {
+            Ok(Vec3::from(x))
+        } else {
+            Err(ModelError::Structure {
+                context: format!("transition {index}"),
+                message: format!("seam vector {x:?} is not finite"),
+            })
+        }
+    };
+    let seam = match &r.seam {
+        Some(s) => Some(Seam {
+            point: fin(s.point)?,
+            normal: fin(s.normal)?,
+            up: fin(s.up)?,
+        }),
+        None => None,
+    };
+    let spec = TransitionSpec {
+        from_start: matches!(r.from_end, EndRecord::Start),
+        to_start: matches!(r.to_end, EndRecord::Start),
+        magnitudes: r.magnitudes,
+        seam,
+        order: r.order,
+    };
+    let transition =
+        Transition::between(from, to, spec).map_err(|source| ModelError::Transition {
+            index,
+            from: r.from.clone(),
+            to: r.to.clone(),
+            source,
+        })?;
+    Ok(ModelTransition {
+        from: r.from,
+        to: r.to,
+        transition,
+    })
+}
+
+fn transition_record(t: &ModelTransition) -> TransitionRecord {
+    let s = t.transition.spec();
+    let end = |start: bool| {
+        if start {
+            EndRecord::Start
+        } else {
+            EndRecord::End
+        }
+    };
+    TransitionRecord {
+        from: t.from.clone(),
+        from_end: end(s.from_start),
+        to: t.to.clone(),
+        to_end: end(s.to_start),
+        magnitudes: s.magnitudes,
+        seam: s.seam.map(|m| SeamRecord {
+            point: m.point.to_array(),
+            normal: m.normal.to_array(),
+            up: m.up.to_array(),
+        }),
+        order: s.order,
+    }
 }
 
 #[derive(Serialize, Deserialize)]
@@ -543,8 +712,8 @@ struct ModelRecord<'a> {
     #[serde(skip_serializing_if = "Option::is_none")]
     body: Option<BodyRecord>,
     parts: Vec<PartRecord>,
-    /// Transition surfaces between parts (none yet: parts meet directly).
-    transitions: Vec<Value>,
+    /// Transition surfaces between parts (docs/model-format.md).
+    transitions: Vec<TransitionRecord>,
 }
 
 fn model_record(model: &Model) -> ModelRecord<'_> {
@@ -583,7 +752,7 @@ fn model_record(model: &Model) -> ModelRecord<'_> {
             height: b.height,
         }),
         parts,
-        transitions: Vec::new(),
+        transitions: model.transitions.iter().map(transition_record).collect(),
     }
 }
 

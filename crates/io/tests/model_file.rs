@@ -48,6 +48,7 @@ fn model(options: &PartOptions) -> Model {
                 part: Part::new(sections()[1..4].to_vec(), &PartOptions::default()).unwrap(),
             },
         ],
+        transitions: Vec::new(),
     }
 }
 
@@ -279,4 +280,52 @@ fn version_2_body_frame_round_trips_and_version_1_still_reads() {
     })
     .unwrap_err();
     assert!(err.to_string().contains("height"), "{err}");
+}
+
+#[test]
+fn transitions_round_trip_and_bad_ones_are_refused() {
+    use trigbody_core::transition::{Seam, Transition, TransitionSpec};
+    use trigbody_io::model::ModelTransition;
+    let mut m = model(&PartOptions::default());
+    let (from, to) = (&m.parts[0].part, &m.parts[1].part);
+    let plain = TransitionSpec {
+        from_start: false,
+        to_start: true,
+        magnitudes: [0.013, 0.1 / 3.0],
+        seam: None,
+        order: 12,
+    };
+    let centre = to.curves()[0].frame.origin;
+    let seamed = TransitionSpec {
+        from_start: true,
+        seam: Some(Seam {
+            point: centre - Vec3::Z * 0.01,
+            normal: Vec3::X,
+            up: Vec3::Z,
+        }),
+        order: 7,
+        ..plain
+    };
+    for spec in [plain, seamed] {
+        m.transitions.push(ModelTransition {
+            from: m.parts[0].name.clone(),
+            to: m.parts[1].name.clone(),
+            transition: Transition::between(from, to, spec).unwrap(),
+        });
+    }
+    let back = round_trip(&m);
+    // Exact f64 equality, the transitions' patches included.
+    assert_eq!(back, m);
+    assert_eq!(back.transitions[1].transition.design_parameters(), 8);
+    let t = text(&m);
+    assert!(t.contains("\"from_end\": \"end\"") && t.contains("\"seam\""));
+    // An unknown part and a non-positive magnitude are refused, naming them.
+    let mut doc: serde_json::Value = serde_json::from_str(&t).unwrap();
+    doc["transitions"][0]["to"] = "arm".into();
+    let err = read_model(doc.to_string().as_bytes()).unwrap_err();
+    assert!(err.to_string().contains("no part named 'arm'"), "{err}");
+    let mut doc: serde_json::Value = serde_json::from_str(&t).unwrap();
+    doc["transitions"][1]["magnitudes"][0] = (-1.0).into();
+    let err = read_model(doc.to_string().as_bytes()).unwrap_err();
+    assert!(err.to_string().contains("transition 1"), "{err}");
 }

@@ -41,8 +41,18 @@
 //!    Sections whose loop cannot be cut or fitted are skipped with a
 //!    warning; when two consecutive planes cross inside the curves (where a
 //!    tilted axis turns), the later section is dropped.
-//! 4. **Report**: design parameters (method.md §7) against 3 × the input's
-//!    vertices, and distances both ways in millimetres (see [`Report`]).
+//! 4. **Transitions** ([`crate::transition`], method.md §6): each leg's
+//!    first section joins its half of the torso's first curve (split at
+//!    the crotch by the plane normal to the body's left axis, closed by a
+//!    seam dipping to the crotch's level) through a Hermite surface with
+//!    the parts' own end tangents, magnitudes fitted to the input; the two
+//!    close the torso's bottom (flat cap instead if one cannot be built).
+//!    Torso and head get one where their end sections are apart (on the
+//!    shared bodies they share the neck's plane, so none is built).
+//! 5. **Report**: design parameters (method.md §7, transitions included)
+//!    against 3 × the input's vertices, and distances both ways in
+//!    millimetres, coverage of the whole input and of its outer surface
+//!    (see [`Report`]).
 //!
 //! Nothing here knows units, coordinates or vertex order: lengths are
 //! fractions of `H`; [`ReconstructOptions::units`] only converts the
@@ -62,6 +72,7 @@ use crate::segment::{
     SegmentError, SegmentOptions, Segmentation,
 };
 use crate::tessellate::{tessellate_part, TessellateError, TessellationOptions};
+use crate::transition::{fit_magnitudes, Seam, Transition, TransitionSpec};
 use std::fmt;
 use thiserror::Error;
 
@@ -256,8 +267,17 @@ pub struct BodyPart {
     pub fits: Vec<SectionFit>,
 }
 
-/// A reconstructed body: skinned parts with their caps, in the input's
-/// frame and units.
+/// A transition surface between two parts of a body (see
+/// [`crate::transition`]): `u = 0` on `from`, `u = 1` on `to`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyTransition {
+    pub from: PartName,
+    pub to: PartName,
+    pub transition: Transition,
+}
+
+/// A reconstructed body: skinned parts with their caps and the transitions
+/// between them, in the input's frame and units.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Body {
     pub units: Units,
@@ -266,13 +286,20 @@ pub struct Body {
     /// Soles to head top, in input units.
     pub height: Real,
     pub parts: Vec<BodyPart>,
+    /// Transitions: each leg to its half of the torso's bottom (the two
+    /// close the torso's bottom), and the torso to the head where their
+    /// end sections do not coincide.
+    pub transitions: Vec<BodyTransition>,
 }
 
 impl Body {
     /// Design parameters (method.md §7): every section's coefficients,
-    /// origin and frame, plus one height per dome cap.
+    /// origin and frame, plus one height per dome cap, plus each
+    /// transition's ([`Transition::design_parameters`]: two magnitudes, and
+    /// a seam's point and normal).
     pub fn design_parameters(&self) -> usize {
-        self.parts
+        let parts: usize = self
+            .parts
             .iter()
             .map(|p| {
                 let domes = [p.part.options().start_cap, p.part.options().end_cap]
@@ -281,7 +308,13 @@ impl Body {
                     .count();
                 p.part.design_parameters() + domes
             })
-            .sum()
+            .sum();
+        parts
+            + self
+                .transitions
+                .iter()
+                .map(|t| t.transition.design_parameters())
+                .sum::<usize>()
     }
 
     /// The part of a name.
@@ -299,6 +332,13 @@ impl Body {
                     source,
                 }
             })?;
+            append_mesh(&mut out, &m);
+        }
+        for t in &self.transitions {
+            let m = match options.target_edge {
+                Some(e) => t.transition.tessellate_edge(e),
+                None => t.transition.tessellate(options.around, options.along),
+            };
             append_mesh(&mut out, &m);
         }
         Ok(out)
@@ -561,16 +601,142 @@ pub fn reconstruct_with_progress(
             Err(e) => return Err(e),
         }
     }
+    progress("transitions");
+    let transitions = assemble(&mut parts, &seg, crotch_level, &input, &mut warnings);
     let model = Body {
         units: opts.units,
         frame: seg.frame,
         height: h,
         parts,
+        transitions,
     };
     progress("measuring");
     let report = measure(body, &model, &seg0, opts, warnings)?;
     Ok((model, report))
 }
+
+/// Builds the transitions (method.md §6, [`crate::transition`]): each leg's
+/// first section to its half of the torso's first curve, split at the
+/// crotch by the plane normal to the body's left axis (the two legs'
+/// transitions close the torso's bottom), and the torso's last section to
+/// the head's first where they are apart. Magnitudes are fitted to the
+/// input ([`fit_magnitudes`]). When a leg's transition cannot be built the
+/// torso's bottom gets a flat cap instead, with a warning.
+fn assemble(
+    parts: &mut [BodyPart],
+    seg: &Segmentation,
+    crotch_level: Real,
+    input: &InputDistance,
+    warnings: &mut Vec<String>,
+) -> Vec<BodyTransition> {
+    let mut out = Vec::new();
+    let up = seg.frame.up;
+    let Some(ti) = parts.iter().position(|p| p.name == PartName::Torso) else {
+        return out;
+    };
+    let distance = |p: Point3| input.distance(p);
+    let build = |from: usize, spec: TransitionSpec, parts: &[BodyPart]| {
+        let (f, t) = (&parts[from].part, &parts[ti].part);
+        Transition::boundaries(f, t, &spec)
+            .and_then(|c| {
+                let magnitudes = fit_magnitudes(&c, &distance)?;
+                let [p0, t0, p1, t1] = c;
+                Transition::hermite(p0, t0, p1, t1, TransitionSpec { magnitudes, ..spec })
+            })
+            .map(|transition| BodyTransition {
+                from: parts[from].name,
+                to: parts[ti].name,
+                transition,
+            })
+    };
+    // Legs: the seam through the crotch (its level; horizontally midway
+    // between the legs' first centres).
+    let legs: Vec<usize> = parts
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| matches!(p.name, PartName::LeftLeg | PartName::RightLeg))
+        .map(|(i, _)| i)
+        .collect();
+    let leg_centre = |i: usize| parts[i].part.curves()[0].frame.origin;
+    let mut closed = legs.len() == 2;
+    if legs.len() == 2 {
+        let mid = (leg_centre(legs[0]) + leg_centre(legs[1])) * 0.5;
+        let point = mid + up * (crotch_level - mid.dot(up));
+        let torso_order = parts[ti].part.curves()[0].order();
+        for &li in &legs {
+            let side = (leg_centre(li) - point).dot(seg.frame.left);
+            let spec = TransitionSpec {
+                from_start: true,
+                to_start: true,
+                magnitudes: [1.0, 1.0],
+                seam: Some(Seam {
+                    point,
+                    normal: seg.frame.left * side.signum(),
+                    up,
+                }),
+                order: torso_order.clamp(6, 16),
+            };
+            match build(li, spec, parts) {
+                Ok(t) => out.push(t),
+                Err(e) => {
+                    warnings.push(format!(
+                        "{}: no transition to the torso ({e})",
+                        parts[li].name
+                    ));
+                    closed = false;
+                }
+            }
+        }
+    }
+    if !closed {
+        // Close the torso's bottom flat.
+        let torso = &parts[ti].part;
+        let options = PartOptions {
+            start_cap: CapKind::Flat,
+            ..*torso.options()
+        };
+        match Part::new(torso.sections().to_vec(), &options) {
+            Ok(p) => {
+                parts[ti].part = p;
+                warnings.push("torso: bottom closed flat (no leg transitions)".to_string());
+            }
+            Err(e) => warnings.push(format!("torso: bottom left open ({e})")),
+        }
+    }
+    // Neck: torso's last section to the head's first, where apart.
+    if let Some(hi) = parts.iter().position(|p| p.name == PartName::Head) {
+        let a = parts[ti].part.curves().last().map(|c| c.frame.origin);
+        let b = parts[hi].part.curves()[0].frame.origin;
+        if a.is_some_and(|a| a.distance(b) > NECK_GAP * seg.height) {
+            let spec = TransitionSpec {
+                from_start: false,
+                to_start: true,
+                magnitudes: [1.0, 1.0],
+                seam: None,
+                order: 1,
+            };
+            // From the torso (u = 0) to the head.
+            let (f, t) = (&parts[ti].part, &parts[hi].part);
+            match Transition::boundaries(f, t, &spec).and_then(|c| {
+                let magnitudes = fit_magnitudes(&c, &distance)?;
+                let [p0, t0, p1, t1] = c;
+                Transition::hermite(p0, t0, p1, t1, TransitionSpec { magnitudes, ..spec })
+            }) {
+                Ok(transition) => out.push(BodyTransition {
+                    from: PartName::Torso,
+                    to: PartName::Head,
+                    transition,
+                }),
+                Err(e) => warnings.push(format!("head: no transition to the torso ({e})")),
+            }
+        }
+    }
+    out
+}
+
+/// The torso's last and the head's first section closer than this
+/// fraction of the height share their plane: no neck transition.
+const NECK_GAP: Real = 0.001;
 
 /// Convenience for a cloud input.
 pub fn reconstruct_cloud(

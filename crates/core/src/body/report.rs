@@ -58,6 +58,18 @@ pub struct Report {
     /// Share of input samples within [`ReconstructOptions::coverage_mm`]
     /// of the model.
     pub coverage: Real,
+    /// Coverage of the input's outer surface: the share of input samples
+    /// within [`ReconstructOptions::coverage_mm`] among those not hidden
+    /// inside the input (a farther sample is hidden when no ray from it
+    /// escapes the input, [`crate::visibility`]: the inside of a modelled
+    /// mouth). Equal to `coverage` for a cloud (a scanner saw every point).
+    pub visible_coverage: Real,
+    /// Input samples farther than the coverage distance and hidden.
+    pub hidden_samples: usize,
+    /// The symmetric RMS (mm) with the hidden input samples left out of
+    /// the input → model direction: what the outer skin achieves on the
+    /// input's outer surface (equal to `distance_mm.rms` for a cloud).
+    pub visible_rms_mm: Real,
     pub parts: Vec<PartReport>,
     /// Parts the segmentation found (feet included).
     pub parts_found: Vec<PartName>,
@@ -142,6 +154,24 @@ pub fn measure(
         .map(|p| model_dist.distance(*p))
         .collect();
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
+    let hidden_flags: Vec<bool> = match body {
+        BodyGeometry::Mesh(m) => {
+            let vis = crate::visibility::Visibility::new(m);
+            in_d.iter()
+                .zip(&input_samples)
+                .map(|(d, p)| *d * mm > opts.coverage_mm && vis.hidden(*p))
+                .collect()
+        }
+        BodyGeometry::Cloud(_) => vec![false; in_d.len()],
+    };
+    let hidden = hidden_flags.iter().filter(|&&h| h).count();
+    let visible_in: Vec<Real> = in_d
+        .iter()
+        .zip(&hidden_flags)
+        .filter(|(_, h)| !**h)
+        .map(|(d, _)| *d)
+        .collect();
+    let av = DistanceMm::of(&DistanceStats::of(&visible_in), mm);
     let a = DistanceMm::of(&DistanceStats::of(&in_d), mm);
     let b = DistanceMm::of(&DistanceStats::of(&out_d), mm);
     Ok(Report {
@@ -155,6 +185,9 @@ pub fn measure(
         input_to_model_mm: a,
         model_to_input_mm: b,
         coverage: covered as Real / in_d.len().max(1) as Real,
+        visible_coverage: covered as Real / (in_d.len() - hidden).max(1) as Real,
+        hidden_samples: hidden,
+        visible_rms_mm: ((av.rms * av.rms + b.rms * b.rms) / 2.0).sqrt(),
         parts: part_reports(model),
         parts_found: seg.parts.iter().map(|p| p.name).collect(),
         warnings,

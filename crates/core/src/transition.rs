@@ -1,0 +1,659 @@
+//! Transition surfaces between parts (method.md §6): a cubic Hermite
+//! surface in `u`, coefficient-wise in `v`, from a boundary curve on one
+//! part to a boundary curve on another, with both boundary tangents.
+//!
+//! ```text
+//! t(u, v) = H₀(u) p₀(v) + H₁(u) m₀ τ₀(v) + H₂(u) p₁(v) + H₃(u) m₁ τ₁(v)
+//! H₀ = 2u³ − 3u² + 1,  H₁ = u³ − 2u² + u,  H₂ = −2u³ + 3u²,  H₃ = u³ − u²
+//! ```
+//!
+//! `p₀` is the end curve of the part the transition starts from (a limb:
+//! its first section, twist-aligned as skinned), `τ₀` that part's
+//! `∂t/∂s` there pointing out of it, `p₁`/`τ₁` the curve and the tangent on
+//! the other part pointing into it. `m₀`, `m₁` (model units) are the
+//! magnitudes: the shape controls. At `u = 0` the surface is `p₀` and
+//! `∂t/∂u = m₀ τ₀`, parallel to the part's own `∂t/∂s`, so position and
+//! tangent direction are continuous across the join (and the same at
+//! `u = 1`): the transition keeps G1 continuity with both parts.
+//!
+//! **Boundary on the torso.** For the neck and arms `p₁` would be a
+//! part's own end section. For a leg it is the leg's half of the torso's
+//! bottom curve ([`Seam`]): the torso's first curve is split by the plane
+//! through the crotch point `K` normal to the body's left axis; the half on
+//! the leg's side is closed by a seam across the plane that dips from the
+//! two crossings down to `K`'s level (a parabola in the plane), so the two
+//! legs' transitions share the seam and together close the torso's bottom.
+//! The half-loop is resampled at equal chord length, fitted by its discrete
+//! Fourier series of order [`TransitionSpec::order`] (exact least squares
+//! on equally spaced samples), oriented like `p₀` and phase-aligned to it
+//! ([`best_phase_shift`]); `τ₁` is the torso's `∂t/∂s` at the same samples
+//! (its mean along the seam), fitted the same way.
+//!
+//! **Magnitudes** ([`fit_magnitudes`]): both are chosen on the grid
+//! `λ d`, `λ ∈ {⅛, ¼, ½, ¾, 1, 1½, 2, 3}`, `d` the distance between the
+//! boundary curves' centres, minimizing the mean squared distance from the
+//! surface (8 × 32 samples strictly between the curves) to the input
+//! there.
+//!
+//! **Design parameters** (method.md §7): the two magnitudes, plus 6 for a
+//! seam (its point and plane normal); everything else is derived from the
+//! parts.
+
+use crate::curve::SpaceCurve;
+use crate::math::{Point3, Real, Vec3};
+use crate::mesh::Mesh;
+use crate::part::{best_phase_shift, Part};
+use crate::patch::{Patch, PatchError};
+use crate::series::Series;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::TAU;
+use thiserror::Error;
+
+/// Samples of the half-loop (and its tangents) before the Fourier fit.
+const HALF_LOOP_SAMPLES: usize = 512;
+/// The magnitude grid, as multiples of the distance between the centres.
+pub const MAGNITUDE_GRID: [Real; 8] = [0.125, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0];
+
+/// Why a transition could not be built.
+#[derive(Debug, Error, PartialEq)]
+pub enum TransitionError {
+    #[error("the magnitudes must be finite and positive, got {0} and {1}")]
+    BadMagnitudes(Real, Real),
+    #[error("the seam plane does not split the end curve in two (it crosses it {0} times)")]
+    SeamMisses(usize),
+    #[error("the seam's normal has no direction")]
+    BadSeam,
+    #[error("the half-loop order must be between 1 and 64, got {0}")]
+    BadOrder(usize),
+    #[error(transparent)]
+    Patch(#[from] PatchError),
+}
+
+/// Splits the end curve on the `to` part: the boundary is the half of the
+/// curve on the side `normal` points to, closed by a seam through the
+/// plane `(point, normal)` dipping to `point`'s level along `up`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Seam {
+    /// A point of the plane; the seam's lowest point is at its level (the
+    /// crotch).
+    pub point: Point3,
+    /// The plane's normal, pointing to the kept half.
+    pub normal: Vec3,
+    /// The direction the seam dips against (the body's up).
+    pub up: Vec3,
+}
+
+/// Everything that defines a transition besides the two parts.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TransitionSpec {
+    /// Which end of the `from` part: its first section (`true`) or last.
+    pub from_start: bool,
+    /// Which end of the `to` part.
+    pub to_start: bool,
+    /// `m₀`, `m₁` in model units.
+    pub magnitudes: [Real; 2],
+    /// Split the `to` end curve (a leg's half of the torso's bottom).
+    pub seam: Option<Seam>,
+    /// Fourier order of a seam half-loop and its tangents.
+    pub order: usize,
+}
+
+/// A transition surface (see the module doc).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Transition {
+    spec: TransitionSpec,
+    p0: SpaceCurve,
+    t0: SpaceCurve,
+    p1: SpaceCurve,
+    t1: SpaceCurve,
+    patch: Patch,
+}
+
+fn scale(c: &SpaceCurve, f: Real) -> SpaceCurve {
+    let s = |x: &Series| Series {
+        c: x.c.iter().map(|a| a * f).collect(),
+    };
+    SpaceCurve {
+        x: s(&c.x),
+        y: s(&c.y),
+        z: s(&c.z),
+    }
+}
+
+fn centre(c: &SpaceCurve) -> Point3 {
+    Vec3::new(c.x.c[0], c.y.c[0], c.z.c[0])
+}
+
+/// The boundary of `part` at one end: its (twist-aligned) curve and `∂t/∂s`
+/// pointing out of the part (`outward`) or into it.
+fn part_end(part: &Part, start: bool, outward: bool) -> (SpaceCurve, SpaceCurve) {
+    let curves = part.curves();
+    let c = if start {
+        &curves[0]
+    } else {
+        &curves[curves.len() - 1]
+    };
+    let t = part.end_tangent(start);
+    (c.world_series(), if outward { t } else { scale(&t, -1.0) })
+}
+
+/// The discrete Fourier series of order `order` of equally spaced samples.
+fn dft(values: &[Real], order: usize) -> Series {
+    let n = values.len() as Real;
+    let mut c = vec![0.0; 2 * order + 1];
+    c[0] = values.iter().sum::<Real>() / n;
+    for j in 1..=order {
+        let (mut a, mut b) = (0.0, 0.0);
+        for (i, x) in values.iter().enumerate() {
+            let (s, co) = (TAU * (j * i) as Real / n).sin_cos();
+            a += x * co;
+            b += x * s;
+        }
+        c[2 * j - 1] = 2.0 * a / n;
+        c[2 * j] = 2.0 * b / n;
+    }
+    Series { c }
+}
+
+fn fit_space(points: &[Point3], order: usize) -> SpaceCurve {
+    let col = |f: fn(&Point3) -> Real| points.iter().map(f).collect::<Vec<_>>();
+    SpaceCurve {
+        x: dft(&col(|p| p.x), order),
+        y: dft(&col(|p| p.y), order),
+        z: dft(&col(|p| p.z), order),
+    }
+}
+
+/// Twice the signed area of a closed polygon projected on the plane
+/// normal to `up` (positive: counter-clockwise seen from `up`).
+fn signed_area(points: &[Point3], up: Vec3) -> Real {
+    let n = points.len();
+    (0..n)
+        .map(|i| points[i].cross(points[(i + 1) % n]).dot(up))
+        .sum()
+}
+
+/// The half-loop boundary and its tangent field (see [`Seam`] and the
+/// module doc), oriented like `reference` and phase-aligned to it.
+pub fn seam_half_loop(
+    curve: &SpaceCurve,
+    tangent: &SpaceCurve,
+    seam: &Seam,
+    order: usize,
+    reference: &SpaceCurve,
+) -> Result<(SpaceCurve, SpaceCurve), TransitionError> {
+    if !(1..=64).contains(&order) {
+        return Err(TransitionError::BadOrder(order));
+    }
+    let normal = seam.normal.normalized().ok_or(TransitionError::BadSeam)?;
+    let up = seam.up.normalized().ok_or(TransitionError::BadSeam)?;
+    let m = HALF_LOOP_SAMPLES;
+    let pts: Vec<Point3> = (0..m)
+        .map(|i| curve.point(TAU * i as Real / m as Real))
+        .collect();
+    let tans: Vec<Vec3> = (0..m)
+        .map(|i| tangent.point(TAU * i as Real / m as Real))
+        .collect();
+    let side: Vec<Real> = pts.iter().map(|p| (*p - seam.point).dot(normal)).collect();
+    // The crossings: i where sample i is outside the kept half and i+1 in.
+    let ups: Vec<usize> = (0..m)
+        .filter(|&i| side[i] <= 0.0 && side[(i + 1) % m] > 0.0)
+        .collect();
+    let downs: Vec<usize> = (0..m)
+        .filter(|&i| side[i] > 0.0 && side[(i + 1) % m] <= 0.0)
+        .collect();
+    if ups.len() != 1 || downs.len() != 1 {
+        return Err(TransitionError::SeamMisses(ups.len() + downs.len()));
+    }
+    let cross = |i: usize| {
+        let j = (i + 1) % m;
+        let w = side[i] / (side[i] - side[j]);
+        (
+            pts[i] + (pts[j] - pts[i]) * w,
+            tans[i] + (tans[j] - tans[i]) * w,
+        )
+    };
+    let (enter, _) = cross(ups[0]);
+    let (leave, _) = cross(downs[0]);
+    let axis = centre(tangent).normalized().unwrap_or(up);
+    // The kept arc, from where it enters the half to where it leaves.
+    let mut poly: Vec<(Point3, Vec3)> = vec![(enter, axis)];
+    let mut i = (ups[0] + 1) % m;
+    while side[i] > 0.0 {
+        poly.push((pts[i], tans[i]));
+        i = (i + 1) % m;
+    }
+    poly.push((leave, axis));
+    // The seam from `leave` back to `enter`, dipping to the seam point's
+    // level (never rising above the chord).
+    let chord = leave.distance(enter);
+    let spacing = poly
+        .windows(2)
+        .map(|w| w[0].0.distance(w[1].0))
+        .sum::<Real>()
+        / (poly.len() - 1).max(1) as Real;
+    let steps = ((chord / spacing.max(Real::MIN_POSITIVE)).ceil() as usize).clamp(2, m);
+    let mid = (leave + enter) * 0.5;
+    let dip = (seam.point.dot(up) - mid.dot(up)).min(0.0);
+    for k in 1..steps {
+        let s = k as Real / steps as Real;
+        let p = leave + (enter - leave) * s + up * (4.0 * s * (1.0 - s) * dip);
+        poly.push((p, axis));
+    }
+    // Resample at equal chord length.
+    let n = poly.len();
+    let mut acc = vec![0.0; n + 1];
+    for k in 0..n {
+        acc[k + 1] = acc[k] + poly[k].0.distance(poly[(k + 1) % n].0);
+    }
+    let total = acc[n];
+    if !(total > 0.0) {
+        return Err(TransitionError::SeamMisses(0));
+    }
+    let mut rp = Vec::with_capacity(m);
+    let mut rt = Vec::with_capacity(m);
+    let mut k = 0;
+    for i in 0..m {
+        let s = total * i as Real / m as Real;
+        while acc[k + 1] < s {
+            k += 1;
+        }
+        let len = acc[k + 1] - acc[k];
+        let w = if len > 0.0 { (s - acc[k]) / len } else { 0.0 };
+        let (a, b) = (poly[k], poly[(k + 1) % n]);
+        rp.push(a.0 + (b.0 - a.0) * w);
+        rt.push(a.1 + (b.1 - a.1) * w);
+    }
+    let ref_pts: Vec<Point3> = (0..m)
+        .map(|i| reference.point(TAU * i as Real / m as Real))
+        .collect();
+    if (signed_area(&rp, up) > 0.0) != (signed_area(&ref_pts, up) > 0.0) {
+        rp.reverse();
+        rt.reverse();
+    }
+    let p = fit_space(&rp, order);
+    let t = fit_space(&rt, order);
+    let phi = best_phase_shift(reference, &p);
+    Ok((p.shifted(phi), t.shifted(phi)))
+}
+
+impl Transition {
+    /// The Hermite transition from `p0` (tangent `m0 t0`) to `p1` (tangent
+    /// `m1 t1`); `t0`, `t1` point the way `u` increases.
+    pub fn hermite(
+        p0: SpaceCurve,
+        t0: SpaceCurve,
+        p1: SpaceCurve,
+        t1: SpaceCurve,
+        spec: TransitionSpec,
+    ) -> Result<Transition, TransitionError> {
+        let [m0, m1] = spec.magnitudes;
+        if !(m0.is_finite() && m0 > 0.0 && m1.is_finite() && m1 > 0.0) {
+            return Err(TransitionError::BadMagnitudes(m0, m1));
+        }
+        let patch = Patch::hermite(&p0, &scale(&t0, m0), &p1, &scale(&t1, m1))?;
+        Ok(Transition {
+            spec,
+            p0,
+            t0,
+            p1,
+            t1,
+            patch,
+        })
+    }
+
+    /// The boundary curves and tangents of a transition from `from` to `to`
+    /// (the magnitudes of `spec` are not used).
+    pub fn boundaries(
+        from: &Part,
+        to: &Part,
+        spec: &TransitionSpec,
+    ) -> Result<[SpaceCurve; 4], TransitionError> {
+        let (p0, t0) = part_end(from, spec.from_start, true);
+        // Into `to`: against its outward end tangent.
+        let (c1, t1) = part_end(to, spec.to_start, false);
+        let (p1, t1) = match &spec.seam {
+            Some(seam) => seam_half_loop(&c1, &t1, seam, spec.order, &p0)?,
+            None => {
+                let phi = best_phase_shift(&p0, &c1);
+                (c1.shifted(phi), t1.shifted(phi))
+            }
+        };
+        Ok([p0, t0, p1, t1])
+    }
+
+    /// The transition from an end of `from` to an end of `to` (see
+    /// [`TransitionSpec`]): what a model file rebuilds.
+    pub fn between(
+        from: &Part,
+        to: &Part,
+        spec: TransitionSpec,
+    ) -> Result<Transition, TransitionError> {
+        let [p0, t0, p1, t1] = Transition::boundaries(from, to, &spec)?;
+        Transition::hermite(p0, t0, p1, t1, spec)
+    }
+
+    pub fn spec(&self) -> &TransitionSpec {
+        &self.spec
+    }
+    /// The surface: `u = 0` on the `from` part, `u = 1` on the `to` part.
+    pub fn patch(&self) -> &Patch {
+        &self.patch
+    }
+    /// `(p₀, τ₀, p₁, τ₁)` (tangents before the magnitudes).
+    pub fn curves(&self) -> [&SpaceCurve; 4] {
+        [&self.p0, &self.t0, &self.p1, &self.t1]
+    }
+    /// Design parameters: the two magnitudes, plus 6 for a seam (point and
+    /// normal; its `up` is the body's frame, not counted).
+    pub fn design_parameters(&self) -> usize {
+        2 + if self.spec.seam.is_some() { 6 } else { 0 }
+    }
+
+    /// A grid mesh of the surface: `around` samples in `v`, `along`
+    /// intervals in `u`, triangles oriented so that their normals point
+    /// away from the centre line of the surface (outward for a tube).
+    pub fn tessellate(&self, around: usize, along: usize) -> Mesh {
+        let (around, along) = (around.max(3), along.max(1));
+        let mut positions = Vec::with_capacity(around * (along + 1));
+        let mut normals = Vec::with_capacity(around * (along + 1));
+        let mut outward = 0.0;
+        for j in 0..=along {
+            let u = j as Real / along as Real;
+            let c = self.patch.curve_at(u);
+            let g = centre(&c);
+            for i in 0..around {
+                let v = TAU * i as Real / around as Real;
+                let p = self.patch.point(u, v);
+                let n = self.patch.normal(u, v).unwrap_or(Vec3::ZERO);
+                outward += (p - g).dot(n);
+                positions.push(p);
+                normals.push(n);
+            }
+        }
+        let flip = outward < 0.0;
+        if flip {
+            for n in normals.iter_mut() {
+                *n = -*n;
+            }
+        }
+        let mut triangles = Vec::with_capacity(2 * around * along);
+        for j in 0..along {
+            for i in 0..around {
+                let a = (j * around + i) as u32;
+                let b = (j * around + (i + 1) % around) as u32;
+                let c = a + around as u32;
+                let d = b + around as u32;
+                // dv × du outward: (a, b, d) runs along v then u.
+                if flip {
+                    triangles.push([a, d, b]);
+                    triangles.push([a, c, d]);
+                } else {
+                    triangles.push([a, b, d]);
+                    triangles.push([a, d, c]);
+                }
+            }
+        }
+        Mesh {
+            positions,
+            normals: Some(normals),
+            triangles,
+        }
+    }
+
+    /// [`Transition::tessellate`] with grid edges of about `edge` (model
+    /// units) along both directions.
+    pub fn tessellate_edge(&self, edge: Real) -> Mesh {
+        let samples = 64;
+        let perimeter = |c: &SpaceCurve| {
+            let p: Vec<Point3> = (0..=samples)
+                .map(|i| c.point(TAU * i as Real / samples as Real))
+                .collect();
+            p.windows(2).map(|w| w[0].distance(w[1])).sum::<Real>()
+        };
+        let around_len = perimeter(&self.p0).max(perimeter(&self.p1));
+        let along_len = (0..16)
+            .map(|i| {
+                let v = TAU * i as Real / 16.0;
+                (0..samples)
+                    .map(|k| {
+                        let (a, b) = (
+                            k as Real / samples as Real,
+                            (k + 1) as Real / samples as Real,
+                        );
+                        self.patch.point(a, v).distance(self.patch.point(b, v))
+                    })
+                    .sum::<Real>()
+            })
+            .fold(0.0, Real::max);
+        let steps = |l: Real| ((l / edge).ceil() as usize).clamp(1, 4096);
+        self.tessellate(steps(around_len).max(8), steps(along_len))
+    }
+}
+
+/// Chooses the magnitudes on [`MAGNITUDE_GRID`] × `d` (`d` the distance
+/// between the boundary curves' centres) minimizing the mean squared
+/// `distance` from 8 × 32 surface points strictly between the curves, over
+/// the whole grid (coordinate descent stalls in the diagonal valleys where
+/// one magnitude makes up for the other).
+pub fn fit_magnitudes(
+    curves: &[SpaceCurve; 4],
+    distance: &dyn Fn(Point3) -> Real,
+) -> Result<[Real; 2], TransitionError> {
+    let [p0, t0, p1, t1] = curves;
+    let d = centre(p0).distance(centre(p1));
+    if !(d > 0.0) {
+        return Err(TransitionError::BadMagnitudes(d, d));
+    }
+    let mut best = (Real::INFINITY, [d, d]);
+    for a in MAGNITUDE_GRID {
+        for b in MAGNITUDE_GRID {
+            let patch = Patch::hermite(p0, &scale(t0, a * d), p1, &scale(t1, b * d))?;
+            let mut sum = 0.0;
+            for j in 1..=8 {
+                let c = patch.curve_at(j as Real / 9.0);
+                for i in 0..32 {
+                    sum += distance(c.point(TAU * i as Real / 32.0)).powi(2);
+                }
+            }
+            let score = sum / (8 * 32) as Real;
+            if score < best.0 {
+                best = (score, [a * d, b * d]);
+            }
+        }
+    }
+    Ok(best.1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curve::{Frame, TrigCurve};
+    use crate::part::PartOptions;
+
+    fn circle(z: Real, r: Real) -> TrigCurve {
+        let frame = Frame {
+            origin: Vec3::new(0.0, 0.0, z),
+            e1: Vec3::X,
+            e2: Vec3::Y,
+        };
+        TrigCurve::circle(frame, r, 3)
+    }
+
+    fn cylinder(z0: Real, z1: Real, r: Real) -> Part {
+        let curves = (0..4)
+            .map(|k| circle(z0 + (z1 - z0) * k as Real / 3.0, r))
+            .collect();
+        Part::new(curves, &PartOptions::default()).unwrap()
+    }
+
+    fn spec(m0: Real, m1: Real) -> TransitionSpec {
+        TransitionSpec {
+            from_start: false,
+            to_start: true,
+            magnitudes: [m0, m1],
+            seam: None,
+            order: 8,
+        }
+    }
+
+    /// A transition between two coaxial circles of different radii, with
+    /// the parts' own tangents: position and tangent direction match both
+    /// parts at the joins to 1e-9.
+    #[test]
+    fn coaxial_circles_join_with_g1_continuity() {
+        let a = cylinder(0.0, 0.3, 0.1);
+        let b = {
+            // A cone widening from 0.15 to 0.2 above the gap.
+            let curves = (0..4)
+                .map(|k| circle(0.5 + 0.1 * k as Real, 0.15 + 0.05 * k as Real / 3.0))
+                .collect();
+            Part::new(curves, &PartOptions::default()).unwrap()
+        };
+        let t = Transition::between(&a, &b, spec(0.17, 0.23)).unwrap();
+        let p = t.patch();
+        for i in 0..32 {
+            let v = TAU * i as Real / 32.0;
+            // Positions.
+            let end_a = a.point(a.length(), v);
+            let start_b = b.point(0.0, v);
+            assert!(p.point(0.0, v).distance(end_a) < 1e-9);
+            assert!(p.point(1.0, v).distance(start_b) < 1e-9);
+            // Tangent directions along the parts' axes.
+            let da = a.derivative(a.length(), v, 1, 0).normalized().unwrap();
+            let db = b.derivative(0.0, v, 1, 0).normalized().unwrap();
+            let d0 = p.du(0.0, v).normalized().unwrap();
+            let d1 = p.du(1.0, v).normalized().unwrap();
+            assert!(d0.distance(da) < 1e-9, "{d0:?} vs {da:?}");
+            assert!(d1.distance(db) < 1e-9, "{d1:?} vs {db:?}");
+            // Across v too (the surface's tangent plane): ∂/∂v agrees.
+            assert!(p.dv(0.0, v).distance(a.derivative(a.length(), v, 0, 1)) < 1e-9);
+            assert!(p.dv(1.0, v).distance(b.derivative(0.0, v, 0, 1)) < 1e-9);
+        }
+    }
+
+    /// Two pieces of one cylinder with a gap: the transition with both
+    /// magnitudes equal to the gap is the cylinder itself.
+    #[test]
+    fn cylinder_to_cylinder_reproduces_the_cylinder() {
+        let (r, gap) = (0.1, 0.2);
+        let a = cylinder(0.0, 0.3, r);
+        let b = cylinder(0.3 + gap, 0.8, r);
+        let t = Transition::between(&a, &b, spec(gap, gap)).unwrap();
+        for j in 0..=10 {
+            let u = j as Real / 10.0;
+            for i in 0..24 {
+                let v = TAU * i as Real / 24.0;
+                let q = t.patch().point(u, v);
+                assert!(((q.x * q.x + q.y * q.y).sqrt() - r).abs() < 1e-12);
+                assert!((q.z - (0.3 + gap * u)).abs() < 1e-12);
+            }
+        }
+        // The mesh: a grid, normals pointing away from the axis.
+        let mesh = t.tessellate(16, 4);
+        assert_eq!(mesh.triangles.len(), 2 * 16 * 4);
+        let normals = mesh.normals.as_ref().unwrap();
+        for (p, n) in mesh.positions.iter().zip(normals) {
+            assert!(Vec3::new(p.x, p.y, 0.0).dot(*n) > 0.0);
+        }
+        for tri in &mesh.triangles {
+            let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
+            let n = (b - a).cross(c - a);
+            assert!(Vec3::new(a.x, a.y, 0.0).dot(n) > 0.0);
+        }
+        assert!(Transition::between(&a, &b, spec(0.0, 1.0)).is_err());
+    }
+
+    /// The magnitude search recovers the magnitudes of a known transition
+    /// (a bulge between two circles with flaring tangents) from distances
+    /// to that surface alone.
+    #[test]
+    fn magnitudes_are_recovered_from_the_surface() {
+        let p0 = circle(0.0, 0.1).world_series();
+        let p1 = circle(1.0, 0.1).world_series();
+        // Tangents flaring outward at the start and inward at the end.
+        let flare = |radial: Real| {
+            let mut t = scale(&p0, radial);
+            t.x.c[0] = 0.0;
+            t.y.c[0] = 0.0;
+            t.z.c = vec![1.0, 0.0, 0.0];
+            t
+        };
+        let (t0, t1) = (flare(1.0), flare(-1.0));
+        let truth = Transition::hermite(
+            p0.clone(),
+            t0.clone(),
+            p1.clone(),
+            t1.clone(),
+            spec(0.5, 1.5),
+        )
+        .unwrap();
+        // Radius of the true surface at height z (z(u) is monotone here).
+        let radius_at = |z: Real| {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if truth.patch().point(mid, 0.0).z < z {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let q = truth.patch().point(0.5 * (lo + hi), 0.0);
+            (q.x * q.x + q.y * q.y).sqrt()
+        };
+        let dist = |p: Point3| ((p.x * p.x + p.y * p.y).sqrt() - radius_at(p.z)).abs();
+        let m = fit_magnitudes(&[p0, t0, p1, t1], &dist).unwrap();
+        assert!(
+            (m[0] - 0.5).abs() < 1e-12 && (m[1] - 1.5).abs() < 1e-12,
+            "{m:?}"
+        );
+    }
+
+    /// A seam splits a wide ellipse into halves that meet on the seam,
+    /// each running the reference's way round.
+    #[test]
+    fn seam_halves_share_the_seam() {
+        let frame = Frame {
+            origin: Vec3::new(0.0, 0.0, 1.0),
+            e1: Vec3::X,
+            e2: Vec3::Y,
+        };
+        let mut wide = TrigCurve::circle(frame, 0.1, 2);
+        wide.a[1] = 0.2; // x semi-axis 0.2, y 0.1
+        let c = wide.world_series();
+        let tangent = SpaceCurve {
+            x: Series::constant(0.0),
+            y: Series::constant(0.0),
+            z: Series::constant(1.0),
+        };
+        let leg = |x: Real| {
+            let f = Frame {
+                origin: Vec3::new(x, 0.0, 0.9),
+                e1: Vec3::X,
+                e2: Vec3::Y,
+            };
+            TrigCurve::circle(f, 0.08, 3).world_series()
+        };
+        let seam = |s: Real| Seam {
+            point: Vec3::new(0.0, 0.0, 0.95),
+            normal: Vec3::X * s,
+            up: Vec3::Z,
+        };
+        let (l, _) = seam_half_loop(&c, &tangent, &seam(1.0), 12, &leg(0.1)).unwrap();
+        let (r, _) = seam_half_loop(&c, &tangent, &seam(-1.0), 12, &leg(-0.1)).unwrap();
+        // Each half lies on its side (up to the Fourier fit's ripple).
+        for i in 0..64 {
+            let v = TAU * i as Real / 64.0;
+            assert!(l.point(v).x > -0.01 && r.point(v).x < 0.01);
+            // The seam dips to z = 0.95 at most.
+            assert!(l.point(v).z > 0.94 && l.point(v).z < 1.01);
+        }
+        // Crossing twice is required.
+        let away = Seam {
+            point: Vec3::new(1.0, 0.0, 0.95),
+            ..seam(1.0)
+        };
+        assert!(seam_half_loop(&c, &tangent, &away, 12, &leg(0.1)).is_err());
+    }
+}

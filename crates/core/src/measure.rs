@@ -178,6 +178,8 @@ pub enum MeasureError {
         measurement: &'static str,
         part: PartName,
     },
+    #[error("the model has no parts (or no extent) to measure")]
+    NoParts,
     #[error("{measurement}: the plane meets no loop of the body")]
     EmptySection { measurement: &'static str },
     #[error("{measurement}: fitting its section failed: {source}")]

@@ -11,6 +11,7 @@ use crate::panels::{across, loops_panel, LoopDrawing};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
+use trigbody_core::measure_model::model_ellipse;
 use trigbody_io::{ReadOptions, UpAxis};
 use trigbody_render::{plot_panels, PlotOptions};
 
@@ -91,7 +92,7 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         let drawing = LoopDrawing {
             points: &g.outline,
             curve: &g.curve,
-            ellipse: g.ellipse.clone(),
+            ellipse: g.ellipse.clone().or_else(|| model_ellipse(g)),
         };
         let title = if g.mesh_tape.is_finite() {
             format!(

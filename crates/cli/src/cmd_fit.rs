@@ -1,6 +1,7 @@
 //! `trigbody fit [FILE|-]`: fit one loop and report it.
 
 use crate::exit::{bad, print};
+use crate::output::write_file;
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use std::io::Read;
@@ -122,6 +123,9 @@ pub struct FitArgs {
     /// Draw the points, the trig curve and the ellipse to FILE.svg or FILE.png.
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// Replace an existing output file (the input is never replaced).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: FitArgs) -> Result<()> {
@@ -156,7 +160,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     if let (Some(path), Some(format)) = (&args.plot, plot_format) {
         let panel = fit_panel(&name, &points, &fit);
         let bytes = plot_panels(&[panel], format, &PlotOptions::default())?;
-        write_output(path, &bytes, args.file.as_deref())?;
+        write_file(path, &bytes, args.file.as_deref().as_slice(), args.force)?;
         if !args.json {
             out += &format!("plot written to {}\n", path.display());
         }
@@ -193,22 +197,10 @@ pub fn image_format(path: &Path) -> Result<ImageFormat> {
     })
 }
 
-/// Writes an output file, refusing to write over the input it was made from.
+/// The old policy (replace an existing output), kept for the commands not
+/// yet moved to [`write_file`].
 pub fn write_output(path: &Path, bytes: &[u8], input: Option<&Path>) -> Result<()> {
-    if let Some(input) = input {
-        if let (Ok(a), Ok(b)) = (path.canonicalize(), input.canonicalize()) {
-            if a == b {
-                return Err(bad(format!(
-                    "{}: refusing to write over the input file",
-                    path.display()
-                )));
-            }
-        }
-    }
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| bad(format!("{}: {e}", dir.display())))?;
-    }
-    std::fs::write(path, bytes).map_err(|e| bad(format!("{}: {e}", path.display())))
+    write_file(path, bytes, input.as_slice(), true)
 }
 
 fn pct(x: Real) -> String {

@@ -204,7 +204,7 @@ pub fn run(args: LoftArgs) -> Result<()> {
     };
     let mut bytes = Vec::new();
     write_model(&mut bytes, &model)?;
-    crate::cmd_mesh::write_new(&args.output, &bytes, args.force)?;
+    crate::output::write_file(&args.output, &bytes, &[&args.sections], args.force)?;
     let part = &model.parts[0].part;
     let twist = part
         .twist()

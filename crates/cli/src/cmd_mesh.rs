@@ -1,9 +1,9 @@
 //! `trigbody mesh MODEL.json -o OUT.glb|obj|ply|stl`: tessellate a model.
 
 use crate::exit::bad;
+use crate::output::{refuse_input, write_file};
 use anyhow::Result;
 use clap::Args;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use trigbody_core::{tessellate_part, Mesh, Real, TessellationOptions};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
@@ -35,28 +35,10 @@ pub struct MeshArgs {
     pub force: bool,
 }
 
-/// Writes `bytes` to a new file; an existing one only with `force`.
+/// Writes `bytes` to a new file; an existing one only with `force` (kept
+/// for the commands not yet moved to [`write_file`]).
 pub fn write_new(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
-    let mut open = std::fs::OpenOptions::new();
-    open.write(true);
-    if force {
-        open.create(true).truncate(true);
-    } else {
-        open.create_new(true);
-    }
-    let mut f = open.open(path).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::AlreadyExists {
-            bad(format!(
-                "{}: already exists; use --force to replace it",
-                path.display()
-            ))
-        } else {
-            bad(format!("{}: {e}", path.display()))
-        }
-    })?;
-    f.write_all(bytes)
-        .map_err(|e| bad(format!("{}: {e}", path.display())))?;
-    Ok(())
+    write_file(path, bytes, &[], force)
 }
 
 /// All meshes in one (indices offset).
@@ -123,8 +105,9 @@ pub fn run(args: MeshArgs) -> Result<()> {
             })
             .collect();
         let bytes = glb_bytes(&named)?;
-        write_new(&args.output, &bytes, args.force)?;
+        write_file(&args.output, &bytes, &[&args.model], args.force)?;
     } else {
+        refuse_input(&args.output, &[&args.model])?;
         let options = WriteOptions {
             overwrite: args.force,
             ..WriteOptions::default()

@@ -38,9 +38,9 @@ pub struct ScanArgs {
     /// Largest angle of incidence (degrees) still captured.
     #[arg(long, default_value_t = 75.0)]
     pub max_incidence: Real,
-    /// Replace OUTPUT if it exists.
-    #[arg(long)]
-    pub overwrite: bool,
+    /// Replace OUTPUT if it exists (`--overwrite` is the older spelling).
+    #[arg(long, alias = "overwrite")]
+    pub force: bool,
 }
 
 pub fn run(args: ScanArgs) -> Result<()> {
@@ -58,9 +58,10 @@ pub fn run(args: ScanArgs) -> Result<()> {
     };
     let scan = virtual_scan(&mesh, &opts).map_err(|e| bad(format!("{name}: {e}")))?;
     let wopts = WriteOptions {
-        overwrite: args.overwrite,
+        overwrite: args.force,
         ..Default::default()
     };
+    crate::output::refuse_input(&args.output, &[&args.mesh])?;
     write_point_cloud(&args.output, &scan.cloud, &wopts).map_err(bad)?;
     print(&format!(
         "{name}: {} points from {} cameras (seed {}), {:.1} % of the surface seen; written to {}\n",

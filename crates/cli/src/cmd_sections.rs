@@ -1,8 +1,9 @@
 //! `trigbody sections INPUT`: cut a mesh (plane sections) or a scan (slab
 //! sections) with parallel planes and fit every loop.
 
-use crate::cmd_fit::{image_format, parse_vec3, write_output, FitFlags};
+use crate::cmd_fit::{image_format, parse_vec3, FitFlags};
 use crate::exit::{bad, print};
+use crate::output::write_file;
 use crate::panels::{across, loops_panel, LoopDrawing};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
@@ -71,6 +72,9 @@ pub struct SectionsArgs {
     /// and ellipse fits of --plot-levels levels, to FILE.svg or FILE.png.
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// Replace an existing output file (the input is never replaced).
+    #[arg(long)]
+    pub force: bool,
     /// How many levels (spread evenly over those with loops) --plot draws in detail.
     #[arg(long, default_value_t = 8)]
     pub plot_levels: usize,
@@ -271,7 +275,7 @@ pub fn run(args: SectionsArgs) -> Result<()> {
             "levels": levels,
         });
         let text = serde_json::to_string_pretty(&doc).context("encoding JSON")? + "\n";
-        write_output(path, text.as_bytes(), Some(&args.input))?;
+        write_file(path, text.as_bytes(), &[&args.input], args.force)?;
         table += &format!("JSON written to {}\n", path.display());
     }
     if let (Some(path), Some(format)) = (&args.plot, plot_format) {
@@ -281,7 +285,7 @@ pub fn run(args: SectionsArgs) -> Result<()> {
         };
         let panels = section_panels(&name, outline, axis, &fitted, args.plot_levels);
         let bytes = plot_panels(&panels, format, &PlotOptions::default())?;
-        write_output(path, &bytes, Some(&args.input))?;
+        write_file(path, &bytes, &[&args.input], args.force)?;
         table += &format!("plot written to {}\n", path.display());
     }
     print(&table)

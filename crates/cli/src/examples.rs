@@ -1,8 +1,9 @@
 //! `trigbody examples`: fit the bundled real cross-sections, compare each
 //! with the ellipse baseline, and draw them all.
 
-use crate::cmd_fit::{fit_panel, fit_points, image_format, write_output, FitFlags};
+use crate::cmd_fit::{fit_panel, fit_points, image_format, FitFlags};
 use crate::exit::print;
+use crate::output::write_file;
 use anyhow::{Context, Result};
 use clap::Args;
 use std::path::PathBuf;
@@ -35,16 +36,19 @@ pub const EXAMPLE_LOOPS: [(&str, &str); 6] = [
 pub struct ExamplesArgs {
     #[command(flatten)]
     pub fit: FitFlags,
-    /// Where to draw all fits (SVG or PNG).
-    #[arg(long, value_name = "FILE", default_value = "trigbody-examples.png")]
-    pub plot: PathBuf,
+    /// Also draw all fits to FILE (SVG or PNG).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
     /// Print a JSON list of the fits instead of the table.
     #[arg(long)]
     pub json: bool,
+    /// Replace an existing output file (the input is never replaced).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: ExamplesArgs) -> Result<()> {
-    let format = image_format(&args.plot)?;
+    let format = args.plot.as_deref().map(image_format).transpose()?;
     let opts = args.fit.options();
     let mut panels = Vec::new();
     let mut json = Vec::new();
@@ -101,10 +105,12 @@ pub fn run(args: ExamplesArgs) -> Result<()> {
         title: Some("Real cross-sections: trigonometric series vs. ellipse".to_string()),
         ..PlotOptions::default()
     };
-    let bytes = plot_panels(&panels, format, &plot_opts)?;
-    write_output(&args.plot, &bytes, None)?;
-    if !args.json {
-        out += &format!("plot written to {}\n", args.plot.display());
+    if let (Some(path), Some(format)) = (&args.plot, format) {
+        let bytes = plot_panels(&panels, format, &plot_opts)?;
+        write_file(path, &bytes, &[], args.force)?;
+        if !args.json {
+            out += &format!("plot written to {}\n", path.display());
+        }
     }
     print(&out)
 }

@@ -130,7 +130,7 @@ fn examples_command_is_the_readme_main_job() {
     let dir = scratch("examples_command");
     let out = trigbody()
         .current_dir(&dir)
-        .arg("examples")
+        .args(["examples", "--plot", "examples.png"])
         .assert()
         .success()
         .get_output()
@@ -147,7 +147,7 @@ fn examples_command_is_the_readme_main_job() {
     ] {
         assert!(text.contains(name), "{text}");
     }
-    assert!(dir.join("trigbody-examples.png").exists());
+    assert!(dir.join("examples.png").exists());
     let json = trigbody()
         .current_dir(&dir)
         .args(["examples", "--json", "--plot", "e.svg"])
@@ -263,4 +263,36 @@ fn negative_reference_is_a_value() {
         .args(["--reference", "-1,0,0", "--normal", "0,-1,0"])
         .assert()
         .success();
+}
+
+#[test]
+fn an_existing_plot_is_replaced_only_with_force() {
+    let dir = scratch("plot_force");
+    let plot = dir.join("thigh.svg");
+    std::fs::write(&plot, "keep me").unwrap();
+    let loops = loops_dir().join("thigh.xyz");
+    let out = trigbody()
+        .arg("fit")
+        .arg(&loops)
+        .arg("--plot")
+        .arg(&plot)
+        .assert()
+        .code(2)
+        .get_output()
+        .clone();
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("thigh.svg") && err.contains("--force"),
+        "{err}"
+    );
+    assert_eq!(std::fs::read_to_string(&plot).unwrap(), "keep me");
+    trigbody()
+        .arg("fit")
+        .arg(&loops)
+        .arg("--plot")
+        .arg(&plot)
+        .arg("--force")
+        .assert()
+        .success();
+    assert!(std::fs::read_to_string(&plot).unwrap().contains("<svg"));
 }

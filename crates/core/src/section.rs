@@ -227,6 +227,67 @@ impl SectionLoop {
     pub fn distance(&self, p: Point3) -> Real {
         distance_to_polygon(self.frame.to_plane(p), &self.plane_points())
     }
+
+    /// The part of the loop on the side `(p − origin)·normal ≤ 0` of a
+    /// clipping plane (Sutherland–Hodgman against one half-space), closed
+    /// along the plane's line in the section: where a loop runs out into a
+    /// neighbouring part (a horizontal torso cut through arms held out
+    /// sideways), the part keeps its own piece with a straight side. The
+    /// new side gets points at the loop's median edge length, so a fit sees
+    /// it as densely as the rest. `None` when nothing (or no area) is left;
+    /// the loop itself when it lies wholly on the kept side.
+    pub fn clipped(&self, origin: Point3, normal: Vec3) -> Option<SectionLoop> {
+        let side: Vec<Real> = self
+            .points
+            .iter()
+            .map(|&p| (p - origin).dot(normal))
+            .collect();
+        if side.iter().all(|&s| s <= 0.0) {
+            return Some(self.clone());
+        }
+        let n = self.points.len();
+        let mut edges: Vec<Real> = (0..n)
+            .map(|i| self.points[i].distance(self.points[(i + 1) % n]))
+            .collect();
+        edges.sort_by(Real::total_cmp);
+        let step = edges[n / 2].max(Real::MIN_POSITIVE);
+        let mut out: Vec<Point3> = Vec::with_capacity(n + 16);
+        // The point where the kept polygon last left the half-space.
+        let mut exit: Option<Point3> = None;
+        for i in 0..n {
+            let (a, b) = (self.points[i], self.points[(i + 1) % n]);
+            let (sa, sb) = (side[i], side[(i + 1) % n]);
+            if sa <= 0.0 {
+                out.push(a);
+            }
+            if (sa <= 0.0) != (sb <= 0.0) {
+                let x = a + (b - a) * (sa / (sa - sb));
+                if sa <= 0.0 {
+                    out.push(x);
+                    exit = Some(x);
+                } else {
+                    // Entering again: fill the straight side from the exit.
+                    if let Some(e) = exit.take() {
+                        push_between(&mut out, e, x, step);
+                    }
+                    out.push(x);
+                }
+            }
+        }
+        if let (Some(e), Some(&first)) = (exit, out.first()) {
+            // The polygon started outside: the side closes onto the first point.
+            push_between(&mut out, e, first, step);
+        }
+        SectionLoop::from_points(out, self.frame.e1, self.frame.e2)
+    }
+}
+
+/// Points strictly between `a` and `b`, about `step` apart.
+fn push_between(out: &mut Vec<Point3>, a: Point3, b: Point3, step: Real) {
+    let k = (a.distance(b) / step).floor() as usize;
+    for j in 1..k {
+        out.push(a + (b - a) * (j as Real / k as Real));
+    }
 }
 
 /// All loops of one plane section.
@@ -739,6 +800,62 @@ pub fn distance_to_segment(q: Point2, a: Point2, b: Point2) -> Real {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn square_loop(half: Real, n_side: usize) -> SectionLoop {
+        let mut pts = Vec::new();
+        let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+        for k in 0..4 {
+            let (x0, y0) = corners[k];
+            let (x1, y1) = corners[(k + 1) % 4];
+            for j in 0..n_side {
+                let t = j as Real / n_side as Real;
+                pts.push(Vec3::new(
+                    half * (x0 + (x1 - x0) * t),
+                    half * (y0 + (y1 - y0) * t),
+                    0.5,
+                ));
+            }
+        }
+        SectionLoop::from_points(pts, Vec3::X, Vec3::Y).unwrap()
+    }
+
+    #[test]
+    fn clipping_a_square_keeps_the_exact_rectangle() {
+        let sq = square_loop(1.0, 8);
+        // Keep x <= 0.5: a 1.5 x 2 rectangle.
+        let c = sq.clipped(Vec3::new(0.5, 0.0, 0.0), Vec3::X).unwrap();
+        assert!((c.area - 3.0).abs() < 1e-12, "{}", c.area);
+        assert!((c.perimeter - 7.0).abs() < 1e-12, "{}", c.perimeter);
+        assert!(c
+            .points
+            .iter()
+            .all(|p| p.x <= 0.5 + 1e-12 && (p.z - 0.5).abs() < 1e-15));
+        // The new side is sampled like the rest (edge 0.25): no gap longer.
+        let n = c.points.len();
+        let longest = (0..n)
+            .map(|i| c.points[i].distance(c.points[(i + 1) % n]))
+            .fold(0.0, Real::max);
+        assert!(longest <= 0.25 + 1e-12, "{longest}");
+        // Whole loop on the kept side: unchanged; nothing kept: None.
+        assert_eq!(sq.clipped(Vec3::new(2.0, 0.0, 0.0), Vec3::X).unwrap(), sq);
+        assert!(sq.clipped(Vec3::new(-2.0, 0.0, 0.0), Vec3::X).is_none());
+    }
+
+    #[test]
+    fn clipping_starts_anywhere_on_the_loop() {
+        let sq = square_loop(1.0, 8);
+        for roll in 0..sq.points.len() {
+            let mut pts = sq.points.clone();
+            pts.rotate_left(roll);
+            let l = SectionLoop::from_points(pts, Vec3::X, Vec3::Y).unwrap();
+            // A slanted plane: keep x + y <= 1 (the square minus a corner
+            // triangle of legs 1: area 4 - 0.5).
+            let c = l
+                .clipped(Vec3::new(0.5, 0.5, 0.0), Vec3::new(1.0, 1.0, 0.0))
+                .unwrap();
+            assert!((c.area - 3.5).abs() < 1e-12, "roll {roll}: {}", c.area);
+        }
+    }
     use crate::assert_near;
     use crate::shapes;
     use std::f64::consts::{PI, TAU};

@@ -46,8 +46,10 @@
 //!    the convex hull of its points (area, centroid, girth). A ring broken
 //!    by a scanner hole has no inside to fill, but its hull is still the
 //!    section's outline. Loops smaller than
-//!    [`SegmentOptions::min_loop_area`] times the largest loop of all
-//!    slices are dropped (fingers, noise, the grazing cut at either end).
+//!    [`SegmentOptions::min_loop_area`] times the reference area (the
+//!    largest loop, at most twice the 95th percentile of the slices'
+//!    largest: not a slice along arms held out sideways) are dropped
+//!    (fingers, noise, the grazing cut at either end).
 //! 3. **Sign of the axis** (only when the axis came from the principal
 //!    axes). The feet end is the end whose slices have two loops (two feet);
 //!    the head end has one. Over the outer 2-9 % of the extent at either
@@ -172,8 +174,10 @@ pub struct SegmentOptions {
     /// Number of slices over the height (spacing `H / slices`). Default 400
     /// (about 4 mm on a 1.7 m body).
     pub slices: usize,
-    /// Loops smaller than this fraction of the largest loop are dropped.
-    /// Default 0.008 (fingers and noise go, wrists stay).
+    /// Loops smaller than this fraction of the reference area (the largest
+    /// loop of all slices, at most twice the 95th percentile of the slices'
+    /// largest) are dropped. Default 0.008 (fingers and noise go, wrists
+    /// and ankles stay).
     pub min_loop_area: Real,
     /// Dead-end branches shorter than this fraction of `H` are spurs and
     /// removed. Default 0.025.
@@ -1187,8 +1191,22 @@ pub fn segment(
                 why: "no slice has a closed loop".into(),
             });
         }
+        // The reference area is the largest loop, but at most twice the
+        // 95th percentile of the slices' largest loops: a horizontal slice
+        // along arms held out sideways is several times the trunk's area
+        // (measured 6.6 times the 95th percentile on a T-pose scan), and
+        // against it a scan's ankles fell out of the graph and took the
+        // feet with them. Standing bodies' largest loops (hips, chest) are
+        // 1.02-1.40 times that percentile, so they keep the largest.
+        let mut per_slice: Vec<Real> = raw
+            .iter()
+            .filter_map(|(_, l)| l.iter().map(|l| l.area).reduce(Real::max))
+            .collect();
+        per_slice.sort_by(Real::total_cmp);
+        let p95 = per_slice[(per_slice.len() * 19 / 20).min(per_slice.len() - 1)];
+        let reference = largest.min(2.0 * p95);
         for (_, loops) in &mut raw {
-            loops.retain(|l| l.area >= opts.min_loop_area * largest);
+            loops.retain(|l| l.area >= opts.min_loop_area * reference);
         }
         let first = raw.iter().position(|r| !r.1.is_empty()).unwrap_or(0);
         let last = raw.iter().rposition(|r| !r.1.is_empty()).unwrap_or(n - 1);
@@ -1345,25 +1363,46 @@ pub fn segment(
                 why: "must be finite, non-zero and not parallel to up",
             })?,
         None => {
-            // Per leg: the area centroid of its slices 1-3 % of the
-            // height above the floor minus that of its slices 6-9 % above
+            // Per leg: the area centroid of its foot's loops 1-3 % of the
+            // height above the floor minus that of its loops 6-9 % above
             // it; the two legs' unit directions are averaged (one leg at a
             // time, so a slightly tilted axis that cuts one foot lower than
-            // the other does not pull the answer sideways).
-            let leg_dir = |chain: &[usize]| {
-                let nodes = g.chain_nodes(chain);
-                let mean_c = |lo: Real, hi: Real| {
-                    let (mut s, mut w) = (Vec3::ZERO, 0.0);
-                    for &a in &nodes {
-                        let f = (g.nodes[a].slice as Real + 0.5) / n as Real;
-                        if f >= lo && f < hi {
-                            s += g.nodes[a].centroid * g.nodes[a].area;
-                            w += g.nodes[a].area;
-                        }
+            // the other does not pull the answer sideways). A foot's loops
+            // are every loop at those heights nearer (across `up`) to its
+            // leg than to the other leg, not only its own branch: a scan
+            // that sees a foot's top but not its sole shows heel and toes
+            // as separate loops near the floor, and the heel's branch
+            // alone pointed the body backwards.
+            let band = |nodes: &[usize], lo: Real, hi: Real| {
+                let (mut s, mut w) = (Vec3::ZERO, 0.0);
+                for &a in nodes {
+                    let f = (g.nodes[a].slice as Real + 0.5) / n as Real;
+                    if f >= lo && f < hi {
+                        s += g.nodes[a].centroid * g.nodes[a].area;
+                        w += g.nodes[a].area;
                     }
-                    (w > 0.0).then(|| s / w)
+                }
+                (w > 0.0).then(|| s / w)
+            };
+            let all: Vec<usize> = (0..g.nodes.len()).collect();
+            let across = |p: Point3| p - up * p.dot(up);
+            let refs = [&chain_a, &chain_b].map(|c| {
+                let nodes = g.chain_nodes(c);
+                band(&nodes, 0.06, 0.09).or_else(|| nodes.first().map(|&a| g.nodes[a].centroid))
+            });
+            let leg_dir = |mine: usize| {
+                let (Some(me), Some(other)) = (refs[mine], refs[1 - mine]) else {
+                    return Vec3::ZERO;
                 };
-                match (mean_c(0.01, 0.03), mean_c(0.06, 0.09)) {
+                let foot: Vec<usize> = all
+                    .iter()
+                    .copied()
+                    .filter(|&a| {
+                        let c = across(g.nodes[a].centroid);
+                        (c - across(me)).norm() < (c - across(other)).norm()
+                    })
+                    .collect();
+                match (band(&foot, 0.01, 0.03), band(&foot, 0.06, 0.09)) {
                     (Some(a), Some(b)) => {
                         let d = a - b;
                         d - up * d.dot(up)
@@ -1371,7 +1410,7 @@ pub fn segment(
                     _ => Vec3::ZERO,
                 }
             };
-            let (da, db) = (leg_dir(&chain_a), leg_dir(&chain_b));
+            let (da, db) = (leg_dir(0), leg_dir(1));
             let dir = (da.normalized().unwrap_or(Vec3::ZERO)
                 + db.normalized().unwrap_or(Vec3::ZERO))
                 * (0.25 * (da.norm() + db.norm()));

@@ -56,6 +56,7 @@ use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Mesh, PointCloud};
 use crate::part::{Part, PartError, PartOptions};
 use crate::scan_section::scan_fit_options;
+use crate::section::SectionLoop;
 use crate::segment::{
     cut_part_along, segment, BodyFrame, BodyGeometry, LandmarkKind, PartAxis, PartName,
     SegmentError, SegmentOptions, Segmentation,

@@ -1,0 +1,168 @@
+//! How reconstruction fares on bodies it was not developed on: the
+//! built-in body re-posed (arms raised toward a T-pose, legs spread) and
+//! re-shaped (a shorter, wider body), each as a mesh and as its virtual
+//! scan. A crude linear-blend re-posing: arm (leg) vertices turn about the
+//! shoulder (hip) with a weight that ramps from 0 at the joint to 1 a fifth
+//! of the limb further, so the surface stays connected.
+//!
+//! `cargo test --release -p trigbody-io --test pose_variants -- --nocapture`
+//! prints the table. The issue-5 targets are printed as met or not; the
+//! assertions guard what every variant must give (all parts found and
+//! built, a report within loose bounds), so a crash or a lost part fails
+//! while the open accuracy targets stay visible.
+
+use trigbody_core::body::{reconstruct, Body, ReconstructOptions, Report};
+use trigbody_core::scanner::{virtual_scan, ScannerOptions};
+use trigbody_core::segment::{segment, BodyGeometry, PartAxis, PartName, SegmentOptions};
+use trigbody_core::{Mesh, Point3, Real, Vec3};
+use trigbody_io::{read_mesh, ReadOptions};
+
+/// Closest point parameter (arc-length fraction) and distance of `p` to an
+/// axis polyline.
+fn on_axis(axis: &PartAxis, p: Point3) -> (Real, Real) {
+    let len = axis.length().max(1e-12);
+    let (mut best, mut at, mut run) = (Real::INFINITY, 0.0, 0.0);
+    for w in axis.points.windows(2) {
+        let d = w[1] - w[0];
+        let l = d.norm();
+        let s = if l > 0.0 {
+            ((p - w[0]).dot(d) / (l * l)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dist = (w[0] + d * s).distance(p);
+        if dist < best {
+            best = dist;
+            at = (run + s * l) / len;
+        }
+        run += l;
+    }
+    (at, best)
+}
+
+/// Rodrigues rotation of `v` about unit `k` by `angle`.
+fn rotate(v: Vec3, k: Vec3, angle: Real) -> Vec3 {
+    let (s, c) = angle.sin_cos();
+    v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c))
+}
+
+/// Turns the vertices of `limbs` about their first axis point, about
+/// `pivot_axis`, by `angle` (signed per limb so that positive lifts the
+/// limb away from the body's midline).
+fn repose(mesh: &Mesh, limbs: &[PartName], angle: Real) -> Mesh {
+    let seg = segment(BodyGeometry::Mesh(mesh), &SegmentOptions::default()).expect("segments");
+    let axes: Vec<&PartAxis> = seg.parts.iter().collect();
+    let front = seg.frame.front;
+    let mut out = mesh.clone();
+    for (i, p) in mesh.positions.iter().enumerate() {
+        // The part this vertex belongs to: the nearest axis relative to its size.
+        let (owner, _) = axes
+            .iter()
+            .map(|a| {
+                let (t, d) = on_axis(a, *p);
+                (a.name, t, d / a.max_radius().max(1e-9))
+            })
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+            .map(|(n, t, _)| (n, t))
+            .unwrap();
+        // A foot turns with its leg.
+        let owner = match owner {
+            PartName::LeftFoot => PartName::LeftLeg,
+            PartName::RightFoot => PartName::RightLeg,
+            o => o,
+        };
+        if !limbs.contains(&owner) {
+            continue;
+        }
+        let (t, _) = on_axis(seg.part(owner).unwrap(), *p);
+        let axis = seg.part(owner).unwrap();
+        let pivot = axis.points[0];
+        let dir = *axis.points.last().unwrap() - pivot;
+        // Positive angle: the limb's far end moves away from the midline.
+        let side = if dir.dot(seg.frame.left) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        let w = (t / 0.2).clamp(0.0, 1.0);
+        let w = w * w * (3.0 - 2.0 * w);
+        let k = front * side;
+        out.positions[i] = pivot + rotate(*p - pivot, k, angle * w);
+    }
+    out.normals = None;
+    out
+}
+
+fn scaled(mesh: &Mesh, up: Vec3, across: Real, along: Real) -> Mesh {
+    let mut out = mesh.clone();
+    for p in out.positions.iter_mut() {
+        let h = p.dot(up);
+        let flat = *p - up * h;
+        *p = flat * across + up * (h * along);
+    }
+    out.normals = None;
+    out
+}
+
+fn row(name: &str, r: &Report) {
+    let ok = |b: bool| if b { "met" } else { "NOT met" };
+    println!(
+        "{name:<30} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | coverage {:>6.2} % | params {:>5.1} % | targets rms {} p95 {} coverage {}",
+        r.parts.len(),
+        r.parts_found.len(),
+        r.distance_mm.rms,
+        r.distance_mm.p95,
+        r.distance_mm.max,
+        100.0 * r.coverage,
+        100.0 * r.parameter_ratio(),
+        ok(r.distance_mm.rms <= 2.5),
+        ok(r.distance_mm.p95 <= 6.0),
+        ok(r.coverage >= 0.98),
+    );
+}
+
+fn check(name: &str, body: &Body, r: &Report) {
+    row(name, r);
+    // The built-in body faces +z (only this test knows): a scan whose feet
+    // break into heel and toe loops near the floor once turned it round.
+    assert!(
+        body.frame.front.z > 0.95,
+        "{name}: front {:?}",
+        body.frame.front
+    );
+    assert_eq!(r.parts_found.len(), 8, "{name}: {:?}", r.parts_found);
+    assert_eq!(r.parts.len(), 6, "{name}: {:?}", r.warnings);
+    // Loose guards (measured at the time of writing: rms 4.4-7.3 mm,
+    // coverage 93-97 %): a lost limb or a model far off the body fails.
+    assert!(r.distance_mm.rms < 30.0, "{name}: {:?}", r.distance_mm);
+    assert!(r.coverage > 0.8, "{name}: {}", r.coverage);
+    assert!(r.parameter_ratio() < 0.3, "{name}: {}", r.parameter_ratio());
+}
+
+#[test]
+fn re_posed_and_re_shaped_bodies_reconstruct() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
+    let mesh = read_mesh(&path, &ReadOptions::default()).expect("reads the built-in body");
+    let seg = segment(BodyGeometry::Mesh(&mesh), &SegmentOptions::default()).expect("segments");
+    let up = seg.frame.up;
+    let arms = [PartName::LeftArm, PartName::RightArm];
+    let legs = [PartName::LeftLeg, PartName::RightLeg];
+    let deg = std::f64::consts::PI / 180.0;
+    let variants: Vec<(&str, Mesh)> = vec![
+        (
+            "arms raised 45 deg (about T)",
+            repose(&mesh, &arms, 45.0 * deg),
+        ),
+        ("legs spread 8 deg", repose(&mesh, &legs, 8.0 * deg)),
+        ("shorter x0.85, wider x1.1", scaled(&mesh, up, 1.1, 0.85)),
+    ];
+    let opts = ReconstructOptions::default();
+    for (name, m) in &variants {
+        let (body, r) = reconstruct(BodyGeometry::Mesh(m), &opts).expect(name);
+        check(name, &body, &r);
+        let scan = virtual_scan(m, &ScannerOptions::default()).expect("scans");
+        let (body, r) = reconstruct(BodyGeometry::Cloud(&scan.cloud), &opts).expect(name);
+        check(&format!("{name}, scan"), &body, &r);
+    }
+}

@@ -595,24 +595,56 @@ const GL6: [(Real, Real); 6] = [
     (0.966_234_757_101_576, 0.085_662_246_189_585_17),
 ];
 
-/// `cos jv`, `sin jv` on `n` equally spaced `v`.
+/// `cos jv`, `sin jv` on `n` equally spaced `v`, also as rows
+/// `[1, cos v, sin v, …, cos Jv, sin Jv]` in the series' coefficient layout.
 struct VTable {
     n: usize,
     order: usize,
     cos: Vec<Real>,
     sin: Vec<Real>,
+    rows: Vec<Real>,
 }
 
 impl VTable {
     fn new(n: usize, order: usize) -> VTable {
         let mut cos = vec![0.0; n * (order + 1)];
         let mut sin = vec![0.0; n * (order + 1)];
+        let m = 2 * order + 1;
+        let mut rows = vec![0.0; n * m];
         for i in 0..n {
             let r = i * (order + 1)..(i + 1) * (order + 1);
             let (c, s) = (&mut cos[r.clone()], &mut sin[r]);
             harmonics(TAU * i as Real / n as Real, order, c, s);
+            let row = &mut rows[i * m..(i + 1) * m];
+            row[0] = 1.0;
+            for j in 1..=order {
+                row[2 * j - 1] = c[j];
+                row[2 * j] = s[j];
+            }
         }
-        VTable { n, order, cos, sin }
+        VTable {
+            n,
+            order,
+            cos,
+            sin,
+            rows,
+        }
+    }
+
+    /// Nine series at sample `i`; `coef` holds their coefficients
+    /// interleaved, `coef[9k + s]` the `k`-th of series `s` (one pass over
+    /// the row, nine independent sums).
+    #[inline]
+    fn eval9(&self, coef: &[Real], i: usize) -> [Real; 9] {
+        let m = 2 * self.order + 1;
+        let row = &self.rows[i * m..(i + 1) * m];
+        let mut acc = [0.0; 9];
+        for (&r, c) in row.iter().zip(coef.chunks_exact(9)) {
+            for s in 0..9 {
+                acc[s] += r * c[s];
+            }
+        }
+        acc
     }
 
     /// Value of a series at sample `i`.
@@ -681,6 +713,15 @@ impl Tables {
     }
 }
 
+/// Coordinate `s` (x, y, z) of a space curve.
+fn du_of(c: &SpaceCurve, s: usize) -> &Series {
+    match s {
+        0 => &c.x,
+        1 => &c.y,
+        _ => &c.z,
+    }
+}
+
 /// Flux `∬ (t − q)·(t_v × t_u) du dv`, area `∬ |t_v × t_u|` of a patch,
 /// and the extent of its nodes along `up`.
 fn patch_integrals(
@@ -695,12 +736,33 @@ fn patch_integrals(
     let dv = TAU / table.n as Real;
     let (mut flux, mut area) = (0.0, 0.0);
     let order = table.order;
+    let m = 2 * order + 1;
+    // Interleaved coefficients of t, t_v and t_u at a node: d/dv turns
+    // harmonic j's (cos, sin) coefficients (p, q) into (j q, −j p).
+    let mut coef = vec![0.0; 9 * m];
     for &(u, w) in nodes {
         let c = iso_curve(patch, u, 0, order);
         let du = iso_curve(patch, u, 1, order);
+        for (s, sr) in [&c.x, &c.y, &c.z].into_iter().enumerate() {
+            coef[s] = sr.c[0];
+            coef[3 + s] = 0.0;
+            coef[6 + s] = du_of(&du, s).c[0];
+            for j in 1..=order {
+                let (p, q) = (sr.c[2 * j - 1], sr.c[2 * j]);
+                let (a, b) = (9 * (2 * j - 1), 9 * (2 * j));
+                coef[a + s] = p;
+                coef[b + s] = q;
+                coef[a + 3 + s] = j as Real * q;
+                coef[b + 3 + s] = -(j as Real) * p;
+                coef[a + 6 + s] = du_of(&du, s).c[2 * j - 1];
+                coef[b + 6 + s] = du_of(&du, s).c[2 * j];
+            }
+        }
         for i in 0..table.n {
-            let (p, pv) = table.point(&c, i);
-            let cr = pv.cross(table.position(&du, i));
+            let e = table.eval9(&coef, i);
+            let p = Vec3::new(e[0], e[1], e[2]);
+            let pv = Vec3::new(e[3], e[4], e[5]);
+            let cr = pv.cross(Vec3::new(e[6], e[7], e[8]));
             flux += w * dv * (p - q).dot(cr);
             area += w * dv * cr.norm();
             let hgt = p.dot(up);

@@ -1,6 +1,8 @@
 //! `trigbody plot-sections MODEL.json|INPUT -o OUT.svg|png`: the paper's
-//! Figures 1-2 for any body — the sections at chosen measurement levels
-//! with the input points, the trigonometric fit and the ellipse.
+//! Figures 1-2 for any body — the model's sections at the measurement
+//! levels (its trigonometric curves), with the input's section points and
+//! their least-squares ellipse when an input mesh is known (the one
+//! reconstructed, or `--input`), else the ellipse of the model's curve.
 
 use crate::body_input::measurements;
 use crate::cmd_fit::{image_format, write_output};
@@ -9,7 +11,7 @@ use crate::panels::{across, loops_panel, LoopDrawing};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use trigbody_core::measure::MeasureOptions;
+use trigbody_core::measure_model::model_ellipse;
 use trigbody_io::{ReadOptions, UpAxis};
 use trigbody_render::{plot_panels, PlotOptions};
 
@@ -32,8 +34,16 @@ const LEVELS: [&str; 12] = [
 /// Flags of `trigbody plot-sections`.
 #[derive(Debug, Args)]
 pub struct PlotSectionsArgs {
-    /// The body: a closed mesh (.obj, .ply, .stl).
-    pub input: PathBuf,
+    /// The body: a model file (.json, from `trigbody reconstruct`), or a mesh
+    /// or scan, reconstructed first.
+    pub body: PathBuf,
+    /// A mesh whose sections in the same planes are drawn as points (default:
+    /// the input the model was reconstructed from, when it is a mesh).
+    #[arg(long)]
+    pub input: Option<PathBuf>,
+    /// Draw the fitted sections of a mesh itself (no reconstruction).
+    #[arg(long)]
+    pub direct: bool,
     /// The picture to write (.svg or .png).
     #[arg(short, long)]
     pub output: PathBuf,
@@ -69,7 +79,10 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let m = measurements(&args.input, &read, &MeasureOptions::default())?;
+    let b = measurements(&args.body, &read, args.direct, args.input.as_deref())?;
+    let m = &b.measurements;
+    // Millimetres per unit: a model file's own unit, else metres.
+    let mm = b.units.map_or(1e3, |u| u.to_mm());
     let mut panels = Vec::new();
     for name in LEVELS.iter().take(args.levels) {
         let Some((x, g)) = m.get(name).and_then(|x| x.girth.as_ref().map(|g| (x, g))) else {
@@ -79,20 +92,30 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         let drawing = LoopDrawing {
             points: &g.outline,
             curve: &g.curve,
-            ellipse: g.ellipse.clone(),
+            ellipse: g.ellipse.clone().or_else(|| model_ellipse(g)),
         };
-        let title = format!(
-            "{}: {:.0} mm, order {}",
-            x.name,
-            1e3 * x.value,
-            g.curve.order()
-        );
+        let title = if g.mesh_tape.is_finite() {
+            format!(
+                "{}: {:.0} mm (input {:.0}), order {}",
+                x.name,
+                mm * x.value,
+                mm * g.mesh_tape,
+                g.curve.order()
+            )
+        } else {
+            format!(
+                "{}: {:.0} mm, order {}",
+                x.name,
+                mm * x.value,
+                g.curve.order()
+            )
+        };
         panels.push(loops_panel(title, &[drawing], u, w));
     }
     if panels.is_empty() {
         return Err(bad(format!(
             "{}: no girth level could be measured",
-            args.input.display()
+            args.body.display()
         )));
     }
     let options = PlotOptions {
@@ -101,7 +124,7 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         ..PlotOptions::default()
     };
     let bytes = plot_panels(&panels, format, &options)?;
-    write_output(&args.output, &bytes, Some(&args.input))?;
+    write_output(&args.output, &bytes, Some(&args.body))?;
     print(&format!(
         "{}: {} section(s)\n",
         args.output.display(),

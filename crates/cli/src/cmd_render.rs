@@ -1,14 +1,16 @@
-//! `trigbody render MESH -o OUT.png`: a shaded picture of a mesh from
-//! several views side by side.
+//! `trigbody render MODEL.json|MESH -o OUT.png`: a shaded picture of a
+//! mesh or of a model file (tessellated) from several views side by side;
+//! `--compare INPUT` colours it by the distance to an input mesh or scan.
 
 use crate::cmd_fit::write_output;
 use crate::exit::{bad, print};
 use anyhow::Result;
 use clap::Args;
 use std::path::{Path, PathBuf};
+use trigbody_core::body::PointGrid;
 use trigbody_core::distance::MeshDistance;
 use trigbody_core::Mesh;
-use trigbody_io::{ReadOptions, UpAxis};
+use trigbody_io::{Geometry, ReadOptions, UpAxis};
 use trigbody_render::{
     render_mesh, render_mesh_values, RenderError, RenderOptions, VertexValues, View,
 };
@@ -17,7 +19,8 @@ use trigbody_render::{
 /// [`RenderOptions`] or [`ReadOptions`].
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// The mesh to draw: .obj, .ply or .stl.
+    /// What to draw: a mesh (.obj, .ply, .stl) or a model file (.json,
+    /// tessellated).
     pub input: PathBuf,
     /// The picture to write (PNG).
     #[arg(short, long)]
@@ -36,8 +39,9 @@ pub struct RenderArgs {
     /// Samples per pixel along each axis (1-4; 2 smooths the edges).
     #[arg(long, default_value_t = 2)]
     pub supersample: u32,
-    /// Colour the drawn surface by its distance to this input mesh (each
-    /// vertex to the closest point of the input), with a colour bar in mm.
+    /// Colour the drawn surface by its distance to this input, a mesh (each
+    /// vertex to the closest point of its surface) or a point cloud (to the
+    /// nearest point), with a colour bar in mm.
     #[arg(long)]
     pub compare: Option<PathBuf>,
     /// Millimetres per input unit, for --compare (1000: the input is in
@@ -78,7 +82,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
                     args.mm_per_unit
                 )));
             }
-            let target = load_mesh(reference, &read)?;
+            let target = trigbody_io::read_geometry(reference, &read).map_err(bad)?;
             let mm: Vec<f64> = distances_mm(&mesh, &target, args.mm_per_unit);
             let top = match args.max_mm {
                 Some(t) if t.is_finite() && t > 0.0 => t,
@@ -137,16 +141,40 @@ fn render_failure(input: &Path, e: RenderError) -> anyhow::Error {
 }
 
 /// The distance in mm from each vertex of `mesh` to the closest point of
-/// `target` (NaN where none is found: drawn grey).
-fn distances_mm(mesh: &Mesh, target: &Mesh, mm_per_unit: f64) -> Vec<f64> {
-    let bvh = MeshDistance::new(target);
-    mesh.positions
-        .iter()
-        .map(|&p| {
-            bvh.closest(p)
-                .map_or(f64::NAN, |c| c.distance * mm_per_unit)
-        })
-        .collect()
+/// `target`'s surface, or to its nearest point for a cloud (NaN where none
+/// is found: drawn grey).
+fn distances_mm(mesh: &Mesh, target: &Geometry, mm_per_unit: f64) -> Vec<f64> {
+    match target {
+        Geometry::Mesh(t) => {
+            let bvh = MeshDistance::new(t);
+            mesh.positions
+                .iter()
+                .map(|&p| {
+                    bvh.closest(p)
+                        .map_or(f64::NAN, |c| c.distance * mm_per_unit)
+                })
+                .collect()
+        }
+        Geometry::Points(c) => {
+            // Cells of 1 % of the cloud's largest extent.
+            let size = c.bounds().map_or(1.0, |b| {
+                let s = b.size();
+                s.x.max(s.y).max(s.z)
+            });
+            let grid = PointGrid::new(&c.positions, 0.01 * size);
+            mesh.positions
+                .iter()
+                .map(|&p| {
+                    let d = grid.nearest(p);
+                    if d.is_finite() {
+                        d * mm_per_unit
+                    } else {
+                        f64::NAN
+                    }
+                })
+                .collect()
+        }
+    }
 }
 
 /// The `q`-quantile of the finite values (0 when there are none).

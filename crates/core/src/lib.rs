@@ -24,6 +24,7 @@ pub mod linalg;
 pub mod lsq;
 pub mod math;
 pub mod measure;
+pub mod measure_model;
 pub mod mesh;
 pub mod order;
 pub mod part;

@@ -178,6 +178,8 @@ pub enum MeasureError {
         measurement: &'static str,
         part: PartName,
     },
+    #[error("the model has no parts (or no extent) to measure")]
+    NoParts,
     #[error("{measurement}: the plane meets no loop of the body")]
     EmptySection { measurement: &'static str },
     #[error("{measurement}: fitting its section failed: {source}")]
@@ -220,17 +222,21 @@ pub struct Girth {
     /// The fitted curve of the section loop.
     pub curve: TrigCurve,
     /// The least-squares ellipse of the same loop (the paper's baseline),
-    /// when it could be fitted.
+    /// when it could be fitted (for a model: of the input's loop, once
+    /// compared with one; see [`crate::measure_model`]).
     pub ellipse: Option<TrigCurve>,
-    /// The input's section loop (mesh polygon).
+    /// The input's section loop (mesh polygon); empty for a model measured
+    /// without an input.
     pub outline: Vec<Point3>,
     /// The curve's perimeter `∫|P'(v)| dv`.
     pub perimeter: Real,
     /// The curve's tape girth (convex-hull perimeter): the girth's value.
     pub tape: Real,
-    /// The perimeter of the input's section polygon.
+    /// The perimeter of the input's section polygon (NaN when there is no
+    /// input to compare with).
     pub mesh_perimeter: Real,
-    /// The convex-hull perimeter of the input's section polygon.
+    /// The convex-hull perimeter of the input's section polygon (NaN when
+    /// there is no input).
     pub mesh_tape: Real,
 }
 
@@ -253,9 +259,9 @@ pub struct Measurement {
 /// Volume or surface area of the curve model and of the input mesh.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Comparison {
-    /// From the section curves.
+    /// From the section curves (or the body model's surfaces).
     pub model: Real,
-    /// From the input mesh itself.
+    /// From the input mesh itself (NaN when there is none).
     pub mesh: Real,
 }
 

@@ -3,13 +3,19 @@
 //! girth of the 12 girth curves and the volume `h Σ A` of the ~660 slice
 //! curves, i.e. all measurements of a model whose curves exist — and, for
 //! reference, the whole `measure_mesh` (segmentation, sections, fits).
+//! And all measurements of the reconstructed body MODEL from its own curves
+//! (`measure_body`: landmarks, searches, 12 girth sections, lengths,
+//! volume and surface area), with its volume-and-area pass alone.
 //!
-//! `cargo bench -p trigbody-io --bench measure`
+//! `cargo bench -p trigbody-io --bench measure` (`-- model` for the model's)
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
 use trigbody_core::measure::{girths_and_volume, measure_mesh, MeasureOptions};
+use trigbody_core::measure_model::{measure_body, volume_area_extent, ModelMeasureOptions};
+use trigbody_core::segment::BodyGeometry;
+use trigbody_core::{reconstruct, ReconstructOptions};
 use trigbody_io::{read_mesh, ReadOptions};
 
 fn bench(c: &mut Criterion) {
@@ -23,6 +29,18 @@ fn bench(c: &mut Criterion) {
         eprintln!("note: {} unreadable; skipping", path.display());
         return;
     };
+    match reconstruct(BodyGeometry::Mesh(&mesh), &ReconstructOptions::default()) {
+        Ok((body, _)) => {
+            let mo = ModelMeasureOptions::default();
+            c.bench_function("model: all measurements of the mh_male model", |b| {
+                b.iter(|| measure_body(black_box(&body), &mo))
+            });
+            c.bench_function("model: volume and surface area only", |b| {
+                b.iter(|| volume_area_extent(black_box(&body)))
+            });
+        }
+        Err(e) => eprintln!("note: reconstructing failed ({e}); model benches skipped"),
+    }
     let opts = MeasureOptions::default();
     let Ok(m) = measure_mesh(&mesh, &opts) else {
         eprintln!("note: measuring failed; skipping");

@@ -17,7 +17,7 @@
 use crate::exit::bad;
 use anyhow::Result;
 use std::path::Path;
-use trigbody_core::body::{Body, BodyPart, Units};
+use trigbody_core::body::{Body, BodyPart, BodyTransition, Units};
 use trigbody_core::measure::{measure_mesh, MeasureOptions, Measurements};
 use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};
 use trigbody_core::segment::{BodyFrame, BodyGeometry, PartName};
@@ -92,7 +92,23 @@ pub fn body_of_model_file(path: &Path) -> Result<Body> {
             fits: Vec::new(),
         });
     }
+    let part_named = |n: &str| {
+        names
+            .iter()
+            .copied()
+            .find(|k| part_file_name(*k) == n)
+            .ok_or_else(|| bad(format!("{file}: transition names \"{n}\", not a body part")))
+    };
+    let mut transitions = Vec::with_capacity(model.transitions.len());
+    for t in model.transitions {
+        transitions.push(BodyTransition {
+            from: part_named(&t.from)?,
+            to: part_named(&t.to)?,
+            transition: t.transition,
+        });
+    }
     Ok(Body {
+        transitions,
         units,
         frame: BodyFrame {
             up: frame.up,
@@ -151,6 +167,18 @@ pub fn drawable_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
     for p in &model.parts {
         let m = tessellate_part(&p.part, &tess)
             .map_err(|e| bad(format!("{file}: part '{}': {e}", p.name)))?;
+        let base = merged.positions.len() as u32;
+        merged.positions.extend(m.positions);
+        merged
+            .triangles
+            .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
+    }
+    // The transitions between parts (a body model's crotch and neck).
+    for t in &model.transitions {
+        let m = match tess.target_edge {
+            Some(e) => t.transition.tessellate_edge(e),
+            None => t.transition.tessellate(tess.around, tess.along),
+        };
         let base = merged.positions.len() as u32;
         merged.positions.extend(m.positions);
         merged

@@ -1397,6 +1397,7 @@ mod tests {
         };
         Body {
             units: Units::Metres,
+            transitions: Vec::new(),
             frame: BodyFrame {
                 up: Vec3::Y,
                 front: Vec3::Z,

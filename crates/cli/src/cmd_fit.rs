@@ -197,12 +197,6 @@ pub fn image_format(path: &Path) -> Result<ImageFormat> {
     })
 }
 
-/// The old policy (replace an existing output), kept for the commands not
-/// yet moved to [`write_file`].
-pub fn write_output(path: &Path, bytes: &[u8], input: Option<&Path>) -> Result<()> {
-    write_file(path, bytes, input.as_slice(), true)
-}
-
 fn pct(x: Real) -> String {
     if x < 1e-4 {
         format!("{:.2e} %", 100.0 * x)

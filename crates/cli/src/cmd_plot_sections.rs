@@ -5,8 +5,9 @@
 //! reconstructed, or `--input`), else the ellipse of the model's curve.
 
 use crate::body_input::measurements;
-use crate::cmd_fit::{image_format, write_output};
+use crate::cmd_fit::image_format;
 use crate::exit::{bad, print};
+use crate::output::write_file;
 use crate::panels::{across, loops_panel, LoopDrawing};
 use anyhow::Result;
 use clap::Args;
@@ -61,6 +62,9 @@ pub struct PlotSectionsArgs {
     /// The file's up axis (x, -x, y, -y, z, -z, or keep).
     #[arg(long, default_value = "keep")]
     pub up_axis: UpAxis,
+    /// Replace an existing output file (the input is never replaced).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: PlotSectionsArgs) -> Result<()> {
@@ -124,7 +128,9 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         ..PlotOptions::default()
     };
     let bytes = plot_panels(&panels, format, &options)?;
-    write_output(&args.output, &bytes, Some(&args.body))?;
+    let mut inputs = vec![args.body.as_path()];
+    inputs.extend(args.input.as_deref());
+    write_file(&args.output, &bytes, &inputs, args.force)?;
     print(&format!(
         "{}: {} section(s)\n",
         args.output.display(),

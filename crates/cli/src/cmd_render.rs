@@ -2,8 +2,8 @@
 //! mesh or of a model file (tessellated) from several views side by side;
 //! `--compare INPUT` colours it by the distance to an input mesh or scan.
 
-use crate::cmd_fit::write_output;
 use crate::exit::{bad, print};
+use crate::output::write_file;
 use anyhow::Result;
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -52,6 +52,9 @@ pub struct RenderArgs {
     /// percentile of the distances, at least 1 mm).
     #[arg(long)]
     pub max_mm: Option<f64>,
+    /// Replace an existing output file (the input is never replaced).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
@@ -98,7 +101,9 @@ pub fn run(args: RenderArgs) -> Result<()> {
         .image
         .to_png()
         .map_err(|e| render_failure(&args.input, e))?;
-    write_output(&args.output, &png, Some(&args.input))?;
+    let mut inputs = vec![args.input.as_path()];
+    inputs.extend(args.compare.as_deref());
+    write_file(&args.output, &png, &inputs, args.force)?;
     print(&format!(
         "{}: {} triangles, {} view(s), {}×{} pixels\n",
         args.output.display(),

@@ -57,8 +57,8 @@ use crate::mesh::{Mesh, PointCloud};
 use crate::part::{Part, PartError, PartOptions};
 use crate::scan_section::scan_fit_options;
 use crate::segment::{
-    cut_part_along, segment, BodyFrame, BodyGeometry, LandmarkKind, PartAxis, PartName,
-    SegmentError, SegmentOptions, Segmentation,
+    segment, BodyFrame, BodyGeometry, Cutter, LandmarkKind, PartAxis, PartName, SegmentError,
+    SegmentOptions, Segmentation,
 };
 use crate::tessellate::{tessellate_part, TessellateError, TessellationOptions};
 use std::fmt;
@@ -403,6 +403,7 @@ pub fn reconstruct_with_progress(
         BodyGeometry::Mesh(_) => 0.6,
         BodyGeometry::Cloud(_) => 1.5,
     } * seg.slice_spacing;
+    let cutter = Cutter::new(body, &seg);
     let mut plans = Vec::new();
     for name in [
         PartName::Torso,
@@ -427,8 +428,7 @@ pub fn reconstruct_with_progress(
             PartName::Torso => Plan {
                 name,
                 cuts: cut_all(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     &fractions(
                         fraction_at_level(axis, up, crotch_level + margin, true),
@@ -444,7 +444,7 @@ pub fn reconstruct_with_progress(
             },
             PartName::Head => Plan {
                 name,
-                cuts: cut_to_rounded_end(body, &seg, name, 0.0, 0.5, step, opts, &mut warnings),
+                cuts: cut_to_rounded_end(&cutter, name, 0.0, 0.5, step, opts, &mut warnings),
                 start_cap: CapKind::Open,
                 end_cap: CapKind::dome(),
                 tip: axis.points.last().copied(),
@@ -460,8 +460,7 @@ pub fn reconstruct_with_progress(
                     .unwrap_or(0.8);
                 let fine = (0.5 * step).max(0.25 * opts.foot_spacing * h / len);
                 let mut cuts = cut_all(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     &fractions(0.0, wrist, step),
                     opts,
@@ -469,8 +468,7 @@ pub fn reconstruct_with_progress(
                 );
                 cuts.pop(); // the wrist itself starts the hand's run
                 cuts.extend(cut_to_rounded_end(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     wrist,
                     wrist,
@@ -501,8 +499,7 @@ pub fn reconstruct_with_progress(
                 let t0 = fraction_at_level(axis, up, crotch_level - margin, false);
                 let upper = (ankle - 0.02 * h / len).max(t0);
                 let mut cuts = cut_all(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     &fractions(t0, upper, step),
                     opts,
@@ -516,8 +513,7 @@ pub fn reconstruct_with_progress(
                     ..*opts
                 };
                 cuts.extend(cut_to_rounded_end(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     upper,
                     ankle,
@@ -552,7 +548,7 @@ pub fn reconstruct_with_progress(
     for plan in plans {
         let name = plan.name;
         progress(&format!("skinning and refining: {name}"));
-        match refine(body, &seg, plan, opts, &input, &mut warnings) {
+        match refine(&cutter, plan, opts, &input, &mut warnings) {
             Ok(p) => parts.push(p),
             Err(e) if name != PartName::Torso => {
                 warnings.push(format!("{name} left out: {e}"));

@@ -9,14 +9,14 @@ pub(super) struct Cut {
     pub(super) area: Real,
 }
 
-/// Cuts and fits `part` of `seg` at `at`.
+/// Cuts and fits `part` at `at` (through the cutter's shared slicers).
 pub(super) fn cut_and_fit(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     name: PartName,
     at: Real,
     opts: &ReconstructOptions,
 ) -> Result<Cut, String> {
+    let (body, seg) = (cutter.body(), cutter.segmentation());
     // Torso, head and legs (with the feet) are cut across the body's up
     // axis: parallel planes never cross, and a horizontal cut below the
     // ankle is the foot's outline. Arms are cut across their own axis.
@@ -24,7 +24,8 @@ pub(super) fn cut_and_fit(
         PartName::LeftArm | PartName::RightArm => None,
         _ => Some(seg.frame.up),
     };
-    let cut = cut_part_along(body, seg, name, at, normal, true, &opts.segment)
+    let cut = cutter
+        .cut(name, at, normal, true, &opts.segment)
         .map_err(|e| e.to_string())?;
     let base = FitOptions {
         reference: Some(seg.frame.front),
@@ -92,8 +93,7 @@ pub(super) struct Plan {
 
 /// Cuts at every fraction, skipping (with a warning) those that fail.
 pub(super) fn cut_all(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     name: PartName,
     ts: &[Real],
     opts: &ReconstructOptions,
@@ -101,7 +101,7 @@ pub(super) fn cut_all(
 ) -> Vec<Cut> {
     let mut out = Vec::with_capacity(ts.len());
     for &t in ts {
-        match cut_and_fit(body, seg, name, t, opts) {
+        match cut_and_fit(cutter, name, t, opts) {
             Ok(c) => out.push(c),
             Err(e) => warnings.push(format!("{name}: section at {t:.3} skipped: {e}")),
         }
@@ -112,8 +112,7 @@ pub(super) fn cut_all(
 /// Sections up to a rounded end: evenly from `t0` while the loop keeps at
 /// least `end_area_fraction` of the largest loop seen after `watch_from`.
 pub(super) fn cut_to_rounded_end(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     name: PartName,
     t0: Real,
     watch_from: Real,
@@ -125,7 +124,7 @@ pub(super) fn cut_to_rounded_end(
     let mut largest: Real = 0.0;
     let ts = fractions(t0, 1.0, step);
     for &t in &ts[..ts.len().saturating_sub(1)] {
-        let c = match cut_and_fit(body, seg, name, t, opts) {
+        let c = match cut_and_fit(cutter, name, t, opts) {
             Ok(c) => c,
             Err(e) => {
                 if t >= watch_from {
@@ -429,13 +428,13 @@ pub(super) fn drop_outliers(
 /// new section is added; repeated for [`ReconstructOptions::refine_rounds`]
 /// rounds, never closer than [`ReconstructOptions::min_spacing`] × `H`.
 pub(super) fn refine(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     mut plan: Plan,
     opts: &ReconstructOptions,
     input: &InputDistance,
     warnings: &mut Vec<String>,
 ) -> Result<BodyPart, ReconstructError> {
+    let (body, seg) = (cutter.body(), cutter.segmentation());
     let name = plan.name;
     let (start_cap, end_cap, tip) = (plan.start_cap, plan.end_cap, plan.tip);
     let far = opts.max_curve_offset * seg.height;
@@ -473,7 +472,7 @@ pub(super) fn refine(
                 continue;
             }
             let tm = 0.5 * (t0 + t1);
-            let Ok(c) = cut_and_fit(body, seg, name, tm, opts) else {
+            let Ok(c) = cut_and_fit(cutter, name, tm, opts) else {
                 continue;
             };
             let (a0, a1) = (cuts[i].area, cuts[i + 1].area);

@@ -1,0 +1,52 @@
+//! Times `reconstruct` on the built-in body's mesh and its 200 000-point
+//! virtual scan, stage by stage (the progress callback's steps).
+//!
+//! ```text
+//! cargo run --release -p trigbody-io --example reconstruct_timing [mesh|scan|both] [RUNS]
+//! ```
+
+use std::path::PathBuf;
+use std::time::Instant;
+use trigbody_core::body::{reconstruct_with_progress, ReconstructOptions};
+use trigbody_core::scanner::{virtual_scan, ScannerOptions};
+use trigbody_core::segment::BodyGeometry;
+use trigbody_io::{read_mesh, ReadOptions};
+
+fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {
+    let opts = ReconstructOptions::default();
+    for _ in 0..runs.max(1) {
+        let t0 = Instant::now();
+        let mut stages: Vec<(String, f64)> = Vec::new();
+        let mut cb = |s: &str| stages.push((s.to_string(), t0.elapsed().as_secs_f64()));
+        let (_, r) = reconstruct_with_progress(body, &opts, &mut cb).expect("reconstruct");
+        let total = t0.elapsed().as_secs_f64();
+        println!(
+            "{name}: {total:.3} s (rms {:.2} p95 {:.2} cov {:.2} %, {} params)",
+            r.distance_mm.rms,
+            r.distance_mm.p95,
+            100.0 * r.coverage,
+            r.design_parameters
+        );
+        stages.push(("end".into(), total));
+        for w in stages.windows(2) {
+            println!("    {:<32} {:>7.1} ms", w[0].0, 1e3 * (w[1].1 - w[0].1));
+        }
+    }
+}
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let which = args.next().unwrap_or_else(|| "both".into());
+    let runs: usize = args.next().and_then(|r| r.parse().ok()).unwrap_or(1);
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
+    let mesh = read_mesh(&path, &ReadOptions::default()).expect("the built-in body");
+    if which != "scan" {
+        run("mesh", BodyGeometry::Mesh(&mesh), runs);
+    }
+    if which != "mesh" {
+        let scan = virtual_scan(&mesh, &ScannerOptions::default())
+            .expect("virtual scan")
+            .cloud;
+        run("scan", BodyGeometry::Cloud(&scan), runs);
+    }
+}

@@ -2216,6 +2216,11 @@ pub struct Cutter<'a> {
     /// Cloud indices sorted by height along `up`, and those heights.
     sorted: OnceLock<(Vec<u32>, Vec<Real>)>,
     grid: OnceLock<BallGrid>,
+    /// Meshes: a grid of the vertices, each vertex's triangles (CSR: the
+    /// triangles of vertex `v` are `tris[start[v]..start[v + 1]]`) and the
+    /// mesh's bounding box corners.
+    #[allow(clippy::type_complexity)]
+    mesh_grid: OnceLock<(BallGrid, Vec<u32>, Vec<u32>, [Point3; 2])>,
     /// The cloud's point spacing: the segmentation's, else estimated once.
     spacing: OnceLock<Option<Real>>,
 }
@@ -2230,6 +2235,7 @@ impl<'a> Cutter<'a> {
             mesh_slicers: [OnceLock::new(), OnceLock::new()],
             sorted: OnceLock::new(),
             grid: OnceLock::new(),
+            mesh_grid: OnceLock::new(),
             spacing: OnceLock::new(),
         }
     }
@@ -2326,7 +2332,7 @@ impl<'a> Cutter<'a> {
                         })
                     }
                     None => {
-                        let local = local_mesh(m, centre, radius);
+                        let local = self.ball_mesh(m, centre, radius);
                         if local.triangles.is_empty() {
                             None
                         } else {
@@ -2339,6 +2345,89 @@ impl<'a> Cutter<'a> {
                     .unwrap_or_default()
             }
             BodyGeometry::Cloud(c) => self.cloud_loops(c, plane, centre, radius, opts),
+        }
+    }
+
+    /// The triangles of `m` with a vertex within `radius` of `centre`, in
+    /// their order, on their vertices only (renumbered in order) plus the
+    /// two corners of the whole mesh's bounding box: the same section as
+    /// [`local_mesh`] (whose tolerances follow the bounding box's
+    /// diagonal), from a grid of the vertices and their triangle lists.
+    fn ball_mesh(&self, m: &Mesh, centre: Point3, radius: Real) -> Mesh {
+        let (grid, tri_start, tris, corners) = self.mesh_grid.get_or_init(|| {
+            let mut start = vec![0u32; m.positions.len() + 1];
+            for t in &m.triangles {
+                for &v in t {
+                    if let Some(c) = start.get_mut(v as usize + 1) {
+                        *c += 1;
+                    }
+                }
+            }
+            for i in 1..start.len() {
+                start[i] += start[i - 1];
+            }
+            let mut fill = start.clone();
+            let mut tris = vec![0u32; *start.last().unwrap_or(&0) as usize];
+            for (k, t) in m.triangles.iter().enumerate() {
+                for &v in t {
+                    if let Some(f) = fill.get_mut(v as usize) {
+                        tris[*f as usize] = k as u32;
+                        *f += 1;
+                    }
+                }
+            }
+            let corners = m
+                .bounds()
+                .map_or([Vec3::ZERO, Vec3::ZERO], |b| [b.min, b.max]);
+            let grid = BallGrid::new(&m.positions, 0.02 * self.seg.height);
+            (grid, start, tris, corners)
+        });
+        let r2 = radius * radius;
+        // Bit sets over triangles and vertices: picked in any order, read
+        // back in ascending order.
+        let mut tri_bits = vec![0u64; m.triangles.len().div_ceil(64)];
+        grid.for_each_within(centre, radius, &mut |v| {
+            if (m.positions[v as usize] - centre).norm_squared() <= r2 {
+                let (a, b) = (tri_start[v as usize], tri_start[v as usize + 1]);
+                for &t in &tris[a as usize..b as usize] {
+                    tri_bits[t as usize / 64] |= 1 << (t % 64);
+                }
+            }
+        });
+        let ones = |bits: &[u64]| -> Vec<u32> {
+            let mut out = Vec::new();
+            for (w, &word) in bits.iter().enumerate() {
+                let mut x = word;
+                while x != 0 {
+                    out.push((w * 64) as u32 + x.trailing_zeros());
+                    x &= x - 1;
+                }
+            }
+            out
+        };
+        let picked = ones(&tri_bits);
+        let mut vert_bits = vec![0u64; m.positions.len().div_ceil(64)];
+        for &t in &picked {
+            for v in m.triangles[t as usize] {
+                vert_bits[v as usize / 64] |= 1 << (v % 64);
+            }
+        }
+        let vertices = ones(&vert_bits);
+        let mut index = vec![0u32; m.positions.len()];
+        for (k, &v) in vertices.iter().enumerate() {
+            index[v as usize] = k as u32;
+        }
+        let triangles = picked
+            .iter()
+            .map(|&t| m.triangles[t as usize].map(|v| index[v as usize]))
+            .collect();
+        let mut positions: Vec<Point3> =
+            vertices.iter().map(|&v| m.positions[v as usize]).collect();
+        positions.extend_from_slice(corners);
+        Mesh {
+            positions,
+            normals: None,
+            triangles,
         }
     }
 

@@ -14,23 +14,47 @@ use trigbody_io::{read_mesh, ReadOptions};
 
 fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {
     let opts = ReconstructOptions::default();
+    let mut totals = Vec::new();
+    let mut best: Vec<(String, f64)> = Vec::new();
     for _ in 0..runs.max(1) {
         let t0 = Instant::now();
         let mut stages: Vec<(String, f64)> = Vec::new();
         let mut cb = |s: &str| stages.push((s.to_string(), t0.elapsed().as_secs_f64()));
         let (_, r) = reconstruct_with_progress(body, &opts, &mut cb).expect("reconstruct");
         let total = t0.elapsed().as_secs_f64();
-        println!(
-            "{name}: {total:.3} s (rms {:.2} p95 {:.2} cov {:.2} %, {} params)",
-            r.distance_mm.rms,
-            r.distance_mm.p95,
-            100.0 * r.coverage,
-            r.design_parameters
-        );
+        totals.push(total);
         stages.push(("end".into(), total));
-        for w in stages.windows(2) {
-            println!("    {:<32} {:>7.1} ms", w[0].0, 1e3 * (w[1].1 - w[0].1));
+        let times: Vec<(String, f64)> = stages
+            .windows(2)
+            .map(|w| (w[0].0.clone(), w[1].1 - w[0].1))
+            .collect();
+        if best.len() != times.len() {
+            best = times;
+        } else {
+            for (b, t) in best.iter_mut().zip(times) {
+                b.1 = b.1.min(t.1);
+            }
         }
+        if totals.len() == 1 {
+            println!(
+                "{name}: rms {:.3} p95 {:.3} max {:.2} cov {:.3} %, {} params",
+                r.distance_mm.rms,
+                r.distance_mm.p95,
+                r.distance_mm.max,
+                100.0 * r.coverage,
+                r.design_parameters
+            );
+        }
+    }
+    totals.sort_by(f64::total_cmp);
+    println!(
+        "{name}: {} runs, median {:.3} s, fastest {:.3} s; fastest per step:",
+        totals.len(),
+        totals[totals.len() / 2],
+        totals[0]
+    );
+    for (s, t) in &best {
+        println!("    {s:<32} {:>7.1} ms", 1e3 * t);
     }
 }
 

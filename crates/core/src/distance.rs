@@ -130,10 +130,73 @@ pub fn closest_point_on_triangle(p: Point3, a: Point3, b: Point3, c: Point3) -> 
 }
 
 impl<'m> MeshDistance<'m> {
-    /// Builds the hierarchy (median splits along the longest axis). The mesh
-    /// should be valid ([`Mesh::validate`]); an empty mesh gives a hierarchy
-    /// whose queries return `None`.
+    /// Builds the hierarchy over the triangles sorted along a Morton
+    /// (Z-order) curve of their box centres, quantized to 1024 steps per
+    /// axis of the centres' bounding box: each node's triangles are a run
+    /// of that order, split where the highest bit in which the run's first
+    /// and last codes differ changes (halves of the node's box along the
+    /// axis of that bit), in the middle where the codes are equal; boxes
+    /// are filled bottom-up. Linear passes and one radix sort, instead of
+    /// a median search per node (0.1 s for the 380 000 triangles of a
+    /// reconstruction report's model surface). The mesh should be valid
+    /// ([`Mesh::validate`]); an empty mesh gives a hierarchy whose queries
+    /// return `None`.
     pub fn new(mesh: &'m Mesh) -> MeshDistance<'m> {
+        let n = mesh.triangles.len();
+        let bounds: Vec<Aabb> = (0..n).map(|t| tri_bounds(mesh, t)).collect();
+        let (order, codes) = morton_order(&bounds);
+        let mut nodes: Vec<Node> = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
+        if n > 0 {
+            let empty = Node {
+                bounds: bounds[0],
+                start: 0,
+                count: 0,
+            };
+            nodes.push(empty);
+            // (node index, start, end) to split.
+            let mut stack = vec![(0usize, 0usize, n)];
+            while let Some((ni, s, e)) = stack.pop() {
+                if e - s <= LEAF_SIZE {
+                    nodes[ni].start = s as u32;
+                    nodes[ni].count = (e - s) as u32;
+                    continue;
+                }
+                let diff = codes[s] ^ codes[e - 1];
+                let mid = if diff == 0 {
+                    (s + e) / 2
+                } else {
+                    let bit = 1u32 << (31 - diff.leading_zeros());
+                    s + codes[s..e].partition_point(|&c| c & bit == 0)
+                };
+                let left = nodes.len();
+                nodes.push(empty);
+                nodes.push(empty);
+                nodes[ni].start = left as u32;
+                nodes[ni].count = 0;
+                stack.push((left, s, mid));
+                stack.push((left + 1, mid, e));
+            }
+            // Children come after their parents: boxes bottom-up.
+            for ni in (0..nodes.len()).rev() {
+                let node = nodes[ni];
+                nodes[ni].bounds = if node.count > 0 {
+                    let s = node.start as usize;
+                    order[s..s + node.count as usize]
+                        .iter()
+                        .map(|&t| bounds[t as usize])
+                        .reduce(union)
+                        .unwrap_or(node.bounds)
+                } else {
+                    let l = node.start as usize;
+                    union(nodes[l].bounds, nodes[l + 1].bounds)
+                };
+            }
+        }
+        MeshDistance { mesh, nodes, order }
+    }
+
+    #[doc(hidden)]
+    pub fn new_median(mesh: &'m Mesh) -> MeshDistance<'m> {
         let n = mesh.triangles.len();
         let mut order: Vec<u32> = (0..n as u32).collect();
         let bounds: Vec<Aabb> = (0..n).map(|t| tri_bounds(mesh, t)).collect();
@@ -186,6 +249,33 @@ impl<'m> MeshDistance<'m> {
             }
         }
         MeshDistance { mesh, nodes, order }
+    }
+
+    /// The distance from each of `points` to the surface (infinite for an
+    /// empty mesh), exactly as [`MeshDistance::distance`], faster for
+    /// points in a spatially coherent order (surface samples, scans): each
+    /// query starts from the bound `d_prev + |p − p_prev|` that the previous
+    /// point's nearest surface point gives (triangle inequality), so the
+    /// search prunes from the start; a query finding nothing within it
+    /// (rounding) searches unbounded. Large batches are split into
+    /// contiguous runs over the available cores.
+    pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
+        parallel_map(points, 4096, |run| {
+            let mut prev: Option<(Point3, Real)> = None;
+            run.iter()
+                .map(|&p| {
+                    let bound = prev.map_or(Real::INFINITY, |(q, d)| {
+                        (d + q.distance(p)) * (1.0 + 1e-9) + Real::MIN_POSITIVE
+                    });
+                    let d = self
+                        .closest_within(p, bound)
+                        .or_else(|| self.closest(p))
+                        .map_or(Real::INFINITY, |c| c.distance);
+                    prev = d.is_finite().then_some((p, d));
+                    d
+                })
+                .collect()
+        })
     }
 
     /// The surface point nearest to `p`, or `None` for an empty mesh.
@@ -315,9 +405,98 @@ pub fn sample_surface(mesh: &Mesh, count: usize) -> Vec<Point3> {
     out
 }
 
-/// Distances of `points` to the surface of `target`, one per point.
+/// Distances of `points` to the surface of `target`, one per point (see
+/// [`MeshDistance::distances`]).
 pub fn distances_to(target: &MeshDistance, points: &[Point3]) -> Vec<Real> {
-    points.iter().map(|p| target.distance(*p)).collect()
+    target.distances(points)
+}
+
+/// `f` over contiguous runs of `items`, one per available core (at most
+/// 8, and each run at least `min_run` items long), concatenated in order:
+/// the same result as `f(items)` when `f` maps each item on its own.
+pub fn parallel_map<T: Sync, R: Send>(
+    items: &[T],
+    min_run: usize,
+    f: impl Fn(&[T]) -> Vec<R> + Sync,
+) -> Vec<R> {
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let runs = cores.min(items.len() / min_run.max(1)).max(1);
+    if runs == 1 {
+        return f(items);
+    }
+    let size = items.len().div_ceil(runs);
+    std::thread::scope(|scope| {
+        let f = &f;
+        let handles: Vec<_> = items
+            .chunks(size)
+            .map(|run| scope.spawn(move || f(run)))
+            .collect();
+        let mut out = Vec::with_capacity(items.len());
+        for h in handles {
+            match h.join() {
+                Ok(part) => out.extend(part),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        out
+    })
+}
+
+/// The triangles' order along a Morton curve of their box centres and the
+/// codes in that order (see [`MeshDistance::new`]): 10 bits per axis,
+/// interleaved; sorted by an LSD radix sort (stable: equal codes keep
+/// their index order).
+fn morton_order(bounds: &[Aabb]) -> (Vec<u32>, Vec<u32>) {
+    let centres: Vec<Point3> = bounds.iter().map(|b| b.center()).collect();
+    let finite = || centres.iter().filter(|c| c.is_finite());
+    let inf = Real::INFINITY;
+    let lo = finite().fold(Vec3::new(inf, inf, inf), |a, c| a.min(*c));
+    let hi = finite().fold(Vec3::new(-inf, -inf, -inf), |a, c| a.max(*c));
+    let scale = |l: Real, h: Real| if h > l { 1023.0 / (h - l) } else { 0.0 };
+    let s = Vec3::new(scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z));
+    // Spreads the 10 low bits of x to every third bit.
+    let spread = |x: u32| {
+        let mut x = x & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    let q = |v: Real, l: Real, s: Real| {
+        let x = (v - l) * s;
+        if x.is_finite() {
+            x.clamp(0.0, 1023.0) as u32
+        } else {
+            0
+        }
+    };
+    let mut keyed: Vec<(u32, u32)> = centres
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let code = (spread(q(c.x, lo.x, s.x)) << 2)
+                | (spread(q(c.y, lo.y, s.y)) << 1)
+                | spread(q(c.z, lo.z, s.z));
+            (code, i as u32)
+        })
+        .collect();
+    let mut scratch = vec![(0u32, 0u32); keyed.len()];
+    for shift in [0u32, 11, 22] {
+        let mut count = [0usize; 2049];
+        for k in &keyed {
+            count[((k.0 >> shift) & 0x7ff) as usize + 1] += 1;
+        }
+        for b in 0..2048 {
+            count[b + 1] += count[b];
+        }
+        for k in &keyed {
+            let b = ((k.0 >> shift) & 0x7ff) as usize;
+            scratch[count[b]] = *k;
+            count[b] += 1;
+        }
+        std::mem::swap(&mut keyed, &mut scratch);
+    }
+    keyed.into_iter().map(|(c, i)| (i, c)).unzip()
 }
 
 #[cfg(test)]

@@ -2386,7 +2386,7 @@ impl<'a> Cutter<'a> {
         // Bit sets over triangles and vertices: picked in any order, read
         // back in ascending order.
         let mut tri_bits = vec![0u64; m.triangles.len().div_ceil(64)];
-        grid.for_each_within(centre, radius, &mut |v| {
+        grid.for_each_within(centre, radius, None, &mut |v| {
             if (m.positions[v as usize] - centre).norm_squared() <= r2 {
                 let (a, b) = (tri_start[v as usize], tri_start[v as usize + 1]);
                 for &t in &tris[a as usize..b as usize] {
@@ -2507,7 +2507,7 @@ impl<'a> Cutter<'a> {
                 let grid = self
                     .grid
                     .get_or_init(|| BallGrid::new(pos, 0.02 * self.seg.height));
-                grid.for_each_within(centre, radius, &mut keep);
+                grid.for_each_within(centre, radius, Some((axis, offset, t)), &mut keep);
             }
         }
         let needed = so.min_slab_points.max(3);
@@ -2612,20 +2612,54 @@ impl BallGrid {
         (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
     }
 
-    /// Calls `f` with every point in a cell the ball's bounding box meets
-    /// (a superset of the ball: the caller tests the distance).
-    fn for_each_within(&self, centre: Point3, radius: Real, f: &mut impl FnMut(u32)) {
+    /// Calls `f` with every point in a cell that meets the ball and, when
+    /// `slab = Some((n, c, t))` (`n` a unit vector), the slab
+    /// `|p·n − c| ≤ t`: a superset of the points in both (the caller tests
+    /// them exactly). A cell is skipped when its box lies beyond `radius`
+    /// from `centre`, or when its centre's height `h` along `n` has
+    /// `|h − c| > t + (g/2)(|n_x| + |n_y| + |n_z|)` (how far the box of side
+    /// `g` reaches along `n`), each with a small margin.
+    fn for_each_within(
+        &self,
+        centre: Point3,
+        radius: Real,
+        slab: Option<(Vec3, Real, Real)>,
+        f: &mut impl FnMut(u32),
+    ) {
         if !(centre.is_finite() && radius.is_finite()) {
             return;
         }
         let r = Vec3::new(radius, radius, radius);
         let (a, b) = (self.coords(centre - r), self.coords(centre + r));
+        let g = self.cell;
+        let margin = 1e-9 * (radius + g);
+        let reach2 = (radius + margin) * (radius + margin);
         for z in a[2]..=b[2] {
             for y in a[1]..=b[1] {
                 let row = self.key([0, y, z]);
-                let (s, e) = (self.starts[row + a[0]], self.starts[row + b[0] + 1]);
-                for &i in &self.order[s as usize..e as usize] {
-                    f(i);
+                for x in a[0]..=b[0] {
+                    let lo = self.origin + Vec3::new(x as Real, y as Real, z as Real) * g;
+                    let hi = lo + Vec3::new(g, g, g);
+                    let d = Vec3::new(
+                        (lo.x - centre.x).max(0.0).max(centre.x - hi.x),
+                        (lo.y - centre.y).max(0.0).max(centre.y - hi.y),
+                        (lo.z - centre.z).max(0.0).max(centre.z - hi.z),
+                    );
+                    if d.norm_squared() > reach2 {
+                        continue;
+                    }
+                    if let Some((n, c, t)) = slab {
+                        let h = ((lo + hi) * 0.5).dot(n);
+                        let half = 0.5 * g * (n.x.abs() + n.y.abs() + n.z.abs());
+                        if (h - c).abs() > t + half + margin {
+                            continue;
+                        }
+                    }
+                    let k = row + x;
+                    let (s, e) = (self.starts[k], self.starts[k + 1]);
+                    for &i in &self.order[s as usize..e as usize] {
+                        f(i);
+                    }
                 }
             }
         }

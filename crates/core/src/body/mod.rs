@@ -50,7 +50,7 @@
 
 use crate::cap::CapKind;
 use crate::curve::TrigCurve;
-use crate::distance::{sample_surface, DistanceStats, MeshDistance};
+use crate::distance::{parallel_map, sample_surface, DistanceStats, MeshDistance};
 use crate::fit::{fit_loop, FitOptions, LoopFit};
 use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Mesh, PointCloud};
@@ -563,7 +563,7 @@ pub fn reconstruct_with_progress(
         parts,
     };
     progress("measuring");
-    let report = measure(body, &model, &seg0, opts, warnings)?;
+    let report = measure_with(body, &model, &seg0, opts, warnings, &input)?;
     Ok((model, report))
 }
 

@@ -99,9 +99,15 @@ pub(super) fn cut_all(
     opts: &ReconstructOptions,
     warnings: &mut Vec<String>,
 ) -> Vec<Cut> {
+    // Independent cuts: split over the cores, results in order.
+    let cuts = parallel_map(ts, 4, |run| {
+        run.iter()
+            .map(|&t| cut_and_fit(cutter, name, t, opts))
+            .collect()
+    });
     let mut out = Vec::with_capacity(ts.len());
-    for &t in ts {
-        match cut_and_fit(cutter, name, t, opts) {
+    for (&t, cut) in ts.iter().zip(cuts) {
+        match cut {
             Ok(c) => out.push(c),
             Err(e) => warnings.push(format!("{name}: section at {t:.3} skipped: {e}")),
         }
@@ -309,10 +315,11 @@ pub(super) enum InputDistance<'a> {
 }
 
 impl InputDistance<'_> {
-    fn distance(&self, p: Point3) -> Real {
+    /// The distance of each point (see [`MeshDistance::distances`]).
+    pub(super) fn distances(&self, points: &[Point3]) -> Vec<Real> {
         match self {
-            InputDistance::Mesh(m) => m.distance(p),
-            InputDistance::Cloud(g) => g.nearest(p),
+            InputDistance::Mesh(m) => m.distances(points),
+            InputDistance::Cloud(g) => g.distances(points),
         }
     }
 }
@@ -321,45 +328,96 @@ impl InputDistance<'_> {
 /// curve to the input: a curve fitted to a wrongly joined loop (a scan
 /// slab's arcs joined across a hole) has long stretches away from it.
 pub(super) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
-    let mut d: Vec<Real> = c
-        .fit
-        .curve
-        .sample(64)
-        .iter()
-        .map(|p| input.distance(*p))
-        .collect();
+    let mut d = input.distances(&c.fit.curve.sample(64));
     d.sort_by(Real::total_cmp);
     d[48]
+}
+
+/// `n` points of a space curve at `v_i = 2π i/n`, all three series summed
+/// over one table of harmonics per point (one `sin_cos` per point).
+fn curve_points(curve: &crate::curve::SpaceCurve, n: usize) -> Vec<Point3> {
+    let order = curve.order();
+    let (mut co, mut si) = (vec![0.0; order + 1], vec![0.0; order + 1]);
+    let sum = |s: &crate::series::Series, co: &[Real], si: &[Real]| {
+        let c = &s.c;
+        let mut acc = c.first().copied().unwrap_or(0.0);
+        for j in 1..=s.order() {
+            acc += c[2 * j - 1] * co[j] + c[2 * j] * si[j];
+        }
+        acc
+    };
+    (0..n)
+        .map(|i| {
+            crate::series::harmonics(
+                std::f64::consts::TAU * i as Real / n as Real,
+                order,
+                &mut co,
+                &mut si,
+            );
+            Vec3::new(
+                sum(&curve.x, &co, &si),
+                sum(&curve.y, &co, &si),
+                sum(&curve.z, &co, &si),
+            )
+        })
+        .collect()
 }
 
 /// The 90th percentile of the in-plane distances from the loop points of
 /// `cut` to `curve` (sampled densely), both projected into the cut's plane
 /// (a percentile, not the maximum: a scan loop's noise and stray points
 /// must not call for sections everywhere).
+///
+/// Each point's distance to the 256-gon is exact: the previous point's
+/// nearest edge gives a first bound `d`, and an edge with midpoint `m` and
+/// half-length `h` is only measured when `|q − m| < d + h` (every point of
+/// the edge lies within `h` of `m`).
 pub(super) fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
     let f = &cut.fit.curve.frame;
     let n = 256;
-    let poly: Vec<(Real, Real)> = (0..n)
-        .map(|i| {
-            let p = curve.point(std::f64::consts::TAU * i as Real / n as Real) - f.origin;
+    let poly: Vec<(Real, Real)> = curve_points(curve, n)
+        .into_iter()
+        .map(|p| {
+            let p = p - f.origin;
             (p.dot(f.e1), p.dot(f.e2))
         })
         .collect();
-    let mut all = Vec::with_capacity(cut.fit.plane_points.len());
-    for q in &cut.fit.plane_points {
-        let mut best = Real::INFINITY;
-        for i in 0..n {
+    // Per edge: start, direction, squared length, midpoint, half-length.
+    let edges: Vec<[Real; 8]> = (0..n)
+        .map(|i| {
             let (ax, ay) = poly[i];
             let (bx, by) = poly[(i + 1) % n];
             let (dx, dy) = (bx - ax, by - ay);
             let l2 = dx * dx + dy * dy;
-            let t = if l2 > 0.0 {
-                (((q.x - ax) * dx + (q.y - ay) * dy) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let (ex, ey) = (ax + t * dx - q.x, ay + t * dy - q.y);
-            best = best.min((ex * ex + ey * ey).sqrt());
+            let half = 0.5 * l2.sqrt();
+            [ax, ay, dx, dy, l2, ax + 0.5 * dx, ay + 0.5 * dy, half]
+        })
+        .collect();
+    let dist = |e: &[Real; 8], qx: Real, qy: Real| {
+        let [ax, ay, dx, dy, l2, ..] = *e;
+        let t = if l2 > 0.0 {
+            (((qx - ax) * dx + (qy - ay) * dy) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (ex, ey) = (ax + t * dx - qx, ay + t * dy - qy);
+        (ex * ex + ey * ey).sqrt()
+    };
+    let mut all = Vec::with_capacity(cut.fit.plane_points.len());
+    let mut near = 0;
+    for q in &cut.fit.plane_points {
+        let mut best = dist(&edges[near], q.x, q.y);
+        for (i, e) in edges.iter().enumerate() {
+            let (mx, my) = (e[5] - q.x, e[6] - q.y);
+            let reach = best + e[7];
+            if mx * mx + my * my >= reach * reach {
+                continue;
+            }
+            let d = dist(e, q.x, q.y);
+            if d < best {
+                best = d;
+                near = i;
+            }
         }
         all.push(best);
     }
@@ -465,26 +523,27 @@ pub(super) fn refine(
         if segments.len() + 1 != cuts.len() {
             break; // only for the one-patch-per-interval schemes
         }
-        let mut added = Vec::new();
-        for i in 0..cuts.len() - 1 {
-            let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
-            if t1 - t0 < 2.0 * min_step {
-                continue;
-            }
-            let tm = 0.5 * (t0 + t1);
-            let Ok(c) = cut_and_fit(cutter, name, tm, opts) else {
-                continue;
-            };
-            let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
-            let plausible =
-                c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
-            if plausible
-                && curve_offset(&c, input) <= far
-                && stray(&c, &segments[i].patch.curve_at(0.5)) > tol
-            {
-                added.push(c);
-            }
-        }
+        // The halfway cuts of one round are independent: split over the
+        // cores, kept in order.
+        let intervals: Vec<usize> = (0..cuts.len() - 1).collect();
+        let added: Vec<Cut> = parallel_map(&intervals, 4, |run| {
+            run.iter()
+                .filter_map(|&i| {
+                    let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
+                    if t1 - t0 < 2.0 * min_step {
+                        return None;
+                    }
+                    let c = cut_and_fit(cutter, name, 0.5 * (t0 + t1), opts).ok()?;
+                    let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
+                    let plausible =
+                        c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
+                    (plausible
+                        && curve_offset(&c, input) <= far
+                        && stray(&c, &segments[i].patch.curve_at(0.5)) > tol)
+                        .then_some(c)
+                })
+                .collect()
+        });
         if added.is_empty() {
             break;
         }

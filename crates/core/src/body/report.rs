@@ -113,34 +113,54 @@ pub fn measure(
     opts: &ReconstructOptions,
     warnings: Vec<String>,
 ) -> Result<Report, ReconstructError> {
+    let input = match body {
+        BodyGeometry::Mesh(m) => InputDistance::Mesh(MeshDistance::new(m)),
+        BodyGeometry::Cloud(c) => {
+            InputDistance::Cloud(PointGrid::new(&c.positions, 0.01 * model.height))
+        }
+    };
+    measure_with(body, model, seg, opts, warnings, &input)
+}
+
+/// [`measure`] with the input's distance structure already built (the
+/// refinement's).
+pub(super) fn measure_with(
+    body: BodyGeometry<'_>,
+    model: &Body,
+    seg: &Segmentation,
+    opts: &ReconstructOptions,
+    warnings: Vec<String>,
+    input: &InputDistance,
+) -> Result<Report, ReconstructError> {
     let mm = opts.units.to_mm();
     let tess = TessellationOptions {
         target_edge: Some(opts.report_edge * model.height),
         ..TessellationOptions::default()
     };
     let surface = model.tessellate(&tess)?;
-    let model_dist = MeshDistance::new(&surface);
     let model_samples = sample_surface(&surface, opts.report_samples);
-    let (input_samples, input_count, out_d) = match body {
-        BodyGeometry::Mesh(m) => {
-            let input = MeshDistance::new(m);
-            let d: Vec<Real> = model_samples.iter().map(|p| input.distance(*p)).collect();
-            (sample_surface(m, opts.report_samples), m.positions.len(), d)
+    // Model -> input while the model's hierarchy is built (two cores).
+    let ((out_d, input_samples, input_count), model_dist) = std::thread::scope(|scope| {
+        let out = scope.spawn(|| {
+            let d = input.distances(&model_samples);
+            match body {
+                BodyGeometry::Mesh(m) => {
+                    (d, sample_surface(m, opts.report_samples), m.positions.len())
+                }
+                BodyGeometry::Cloud(c) => (
+                    d,
+                    every_kth(&c.positions, opts.report_samples),
+                    c.positions.len(),
+                ),
+            }
+        });
+        let model_dist = MeshDistance::new(&surface);
+        match out.join() {
+            Ok(o) => (o, model_dist),
+            Err(panic) => std::panic::resume_unwind(panic),
         }
-        BodyGeometry::Cloud(c) => {
-            let grid = PointGrid::new(&c.positions, 0.01 * model.height);
-            let d: Vec<Real> = model_samples.iter().map(|p| grid.nearest(*p)).collect();
-            (
-                every_kth(&c.positions, opts.report_samples),
-                c.positions.len(),
-                d,
-            )
-        }
-    };
-    let in_d: Vec<Real> = input_samples
-        .iter()
-        .map(|p| model_dist.distance(*p))
-        .collect();
+    });
+    let in_d = model_dist.distances(&input_samples);
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
     let a = DistanceMm::of(&DistanceStats::of(&in_d), mm);
     let b = DistanceMm::of(&DistanceStats::of(&out_d), mm);
@@ -247,6 +267,37 @@ impl<'a> PointGrid<'a> {
 
     /// Distance from `p` to the nearest point (infinite for an empty cloud).
     pub fn nearest(&self, p: Point3) -> Real {
+        self.nearest_within(p, Real::INFINITY)
+    }
+
+    /// The distance from each of `points` to the nearest point, exactly as
+    /// [`PointGrid::nearest`], faster for points in a spatially coherent
+    /// order: each search starts from the bound `d_prev + |p − p_prev|`
+    /// (triangle inequality), so it stops at the first shell beyond it; a
+    /// search finding nothing within the bound (rounding) runs unbounded.
+    /// Large batches are split over the available cores.
+    pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
+        parallel_map(points, 4096, |run| {
+            let mut prev: Option<(Point3, Real)> = None;
+            run.iter()
+                .map(|&p| {
+                    let bound = prev.map_or(Real::INFINITY, |(q, d)| {
+                        (d + q.distance(p)) * (1.0 + 1e-9) + Real::MIN_POSITIVE
+                    });
+                    let mut d = self.nearest_within(p, bound);
+                    if !d.is_finite() {
+                        d = self.nearest(p);
+                    }
+                    prev = d.is_finite().then_some((p, d));
+                    d
+                })
+                .collect()
+        })
+    }
+
+    /// The distance from `p` to the nearest point closer than `bound`,
+    /// else infinity.
+    fn nearest_within(&self, p: Point3, bound: Real) -> Real {
         if self.order.is_empty() || !p.is_finite() {
             return Real::INFINITY;
         }
@@ -272,7 +323,8 @@ impl<'a> PointGrid<'a> {
         );
         let outside2 = (p - q).norm_squared();
         let maxr = *self.dims.iter().max().unwrap_or(&1) as i64;
-        let mut best = Real::INFINITY;
+        let mut best = bound;
+        let mut found = false;
         for r in 0..=maxr {
             // Every point in shell r is at least (r - 1) cells from q.
             let inner = ((r - 1).max(0) as Real) * self.cell;
@@ -289,16 +341,36 @@ impl<'a> PointGrid<'a> {
                         if (0..3).any(|i| q[i] < 0 || q[i] >= self.dims[i] as i64) {
                             continue;
                         }
+                        // Skip a cell whose box is no nearer than the best.
+                        let lo = self.origin
+                            + Vec3::new(q[0] as Real, q[1] as Real, q[2] as Real) * self.cell;
+                        let hi = lo + Vec3::new(self.cell, self.cell, self.cell);
+                        let gap = Vec3::new(
+                            (lo.x - p.x).max(0.0).max(p.x - hi.x),
+                            (lo.y - p.y).max(0.0).max(p.y - hi.y),
+                            (lo.z - p.z).max(0.0).max(p.z - hi.z),
+                        );
+                        if gap.norm_squared() >= best * best {
+                            continue;
+                        }
                         let k = self.key(q);
                         for &i in &self.order[self.starts[k] as usize..self.starts[k + 1] as usize]
                         {
-                            best = best.min(self.points[i as usize].distance(p));
+                            let d = self.points[i as usize].distance(p);
+                            if d < best {
+                                best = d;
+                                found = true;
+                            }
                         }
                     }
                 }
             }
         }
-        best
+        if found {
+            best
+        } else {
+            Real::INFINITY
+        }
     }
 }
 

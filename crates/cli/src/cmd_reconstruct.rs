@@ -5,11 +5,11 @@
 use crate::cmd_fit::parse_vec3;
 use crate::cmd_mesh::write_new;
 use crate::exit::{bad, print};
+use crate::progress::ProgressBar;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use trigbody_core::body::{reconstruct_with_progress, ReconstructOptions, Report, Units};
+use trigbody_core::body::{reconstruct_with_progress, Progress, ReconstructOptions, Report, Units};
 use trigbody_core::segment::BodyGeometry;
 use trigbody_core::{tessellate_part, Mesh, Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json};
@@ -129,6 +129,13 @@ fn table(r: &Report) -> String {
 }
 
 pub fn run(args: ReconstructArgs) -> Result<()> {
+    let started = std::time::Instant::now();
+    let mut bar = ProgressBar::new("reconstructing");
+    bar.update(Progress {
+        stage: "reading the input",
+        done: 0,
+        total: 1,
+    });
     let (name, geometry) = match &args.input {
         Some(path) => (
             path.display().to_string(),
@@ -156,15 +163,9 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
     };
-    let show = std::io::stderr().is_terminal();
-    let started = std::time::Instant::now();
-    let mut progress = |step: &str| {
-        if show {
-            eprintln!("[{:>6.2} s] {step}", started.elapsed().as_secs_f64());
-        }
-    };
-    let (model, report) = reconstruct_with_progress(body, &options, &mut progress)
-        .map_err(|e| bad(format!("{name}: {e}")))?;
+    let result = reconstruct_with_progress(body, &options, &mut |p| bar.update(p));
+    bar.finish();
+    let (model, report) = result.map_err(|e| bad(format!("{name}: {e}")))?;
     for w in &report.warnings {
         eprintln!("trigbody: warning: {name}: {w}");
     }

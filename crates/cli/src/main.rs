@@ -17,6 +17,7 @@ mod cmd_sections;
 mod examples;
 mod exit;
 mod panels;
+mod progress;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -252,29 +252,15 @@ impl<'m> MeshDistance<'m> {
     }
 
     /// The distance from each of `points` to the surface (infinite for an
-    /// empty mesh), exactly as [`MeshDistance::distance`], faster for
-    /// points in a spatially coherent order (surface samples, scans): each
-    /// query starts from the bound `d_prev + |p − p_prev|` that the previous
-    /// point's nearest surface point gives (triangle inequality), so the
-    /// search prunes from the start; a query finding nothing within it
-    /// (rounding) searches unbounded. Large batches are split into
-    /// contiguous runs over the available cores.
+    /// empty mesh), exactly as [`MeshDistance::distance`], faster (see
+    /// [`coherent_map`]: each query starts from the bound the previous
+    /// point's nearest surface point gives; a query finding nothing within
+    /// it, by rounding, searches unbounded).
     pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
-        parallel_map(points, 4096, |run| {
-            let mut prev: Option<(Point3, Real)> = None;
-            run.iter()
-                .map(|&p| {
-                    let bound = prev.map_or(Real::INFINITY, |(q, d)| {
-                        (d + q.distance(p)) * (1.0 + 1e-9) + Real::MIN_POSITIVE
-                    });
-                    let d = self
-                        .closest_within(p, bound)
-                        .or_else(|| self.closest(p))
-                        .map_or(Real::INFINITY, |c| c.distance);
-                    prev = d.is_finite().then_some((p, d));
-                    d
-                })
-                .collect()
+        coherent_map(points, |p, bound| {
+            self.closest_within(p, bound)
+                .or_else(|| self.closest(p))
+                .map_or(Real::INFINITY, |c| c.distance)
         })
     }
 
@@ -411,6 +397,39 @@ pub fn distances_to(target: &MeshDistance, points: &[Point3]) -> Vec<Real> {
     target.distances(points)
 }
 
+/// `query(p, bound)` for every point, where `bound` bounds the answer from
+/// above: the points are visited in Morton order (sorted along a Z-order
+/// curve, so consecutive points are near each other), `bound` is
+/// `(d_prev + |p − p_prev|)(1 + 10⁻⁹)` from the previous point's answer
+/// (for a nearest-distance query the triangle inequality makes it an upper
+/// bound; the factor covers rounding), infinite for the first point of a
+/// run and after an infinite answer. Runs are split over the cores
+/// ([`parallel_map`], at least 4096 points each); the answers come back in
+/// the order of `points`. With `query` exact whatever the bound, the
+/// answers are exactly those of querying each point alone.
+pub fn coherent_map(points: &[Point3], query: impl Fn(Point3, Real) -> Real + Sync) -> Vec<Real> {
+    let (order, _) = morton_sort(points);
+    let answers = parallel_map(&order, 4096, |run| {
+        let mut prev: Option<(Point3, Real)> = None;
+        run.iter()
+            .map(|&i| {
+                let p = points[i as usize];
+                let bound = prev.map_or(Real::INFINITY, |(q, d)| {
+                    (d + q.distance(p)) * (1.0 + 1e-9) + Real::MIN_POSITIVE
+                });
+                let d = query(p, bound);
+                prev = (d.is_finite() && p.is_finite()).then_some((p, d));
+                d
+            })
+            .collect()
+    });
+    let mut out = vec![0.0; points.len()];
+    for (&i, d) in order.iter().zip(answers) {
+        out[i as usize] = d;
+    }
+    out
+}
+
 /// `f` over contiguous runs of `items`, one per available core (at most
 /// 8, and each run at least `min_run` items long), concatenated in order:
 /// the same result as `f(items)` when `f` maps each item on its own.
@@ -443,11 +462,17 @@ pub fn parallel_map<T: Sync, R: Send>(
 }
 
 /// The triangles' order along a Morton curve of their box centres and the
-/// codes in that order (see [`MeshDistance::new`]): 10 bits per axis,
-/// interleaved; sorted by an LSD radix sort (stable: equal codes keep
-/// their index order).
+/// codes in that order (see [`MeshDistance::new`]): 10 bits per axis of
+/// the centres' bounding box, interleaved; sorted by an LSD radix sort
+/// (stable: equal codes keep their index order).
 fn morton_order(bounds: &[Aabb]) -> (Vec<u32>, Vec<u32>) {
     let centres: Vec<Point3> = bounds.iter().map(|b| b.center()).collect();
+    morton_sort(&centres)
+}
+
+/// The indices of `points` in Morton order, and their codes (see
+/// [`morton_order`]).
+pub(crate) fn morton_sort(centres: &[Point3]) -> (Vec<u32>, Vec<u32>) {
     let finite = || centres.iter().filter(|c| c.is_finite());
     let inf = Real::INFINITY;
     let lo = finite().fold(Vec3::new(inf, inf, inf), |a, c| a.min(*c));

@@ -7,17 +7,23 @@
 
 use std::path::PathBuf;
 use std::time::Instant;
-use trigbody_core::body::{reconstruct_with_progress, ReconstructOptions};
+use trigbody_core::body::{reconstruct_with_progress, Progress, ReconstructOptions};
 use trigbody_core::scanner::{virtual_scan, ScannerOptions};
 use trigbody_core::segment::BodyGeometry;
 use trigbody_io::{read_mesh, ReadOptions};
 
 fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {
     let mut opts = ReconstructOptions::default();
-    if let Some(e) = std::env::var("REPORT_EDGE").ok().and_then(|v| v.parse().ok()) {
+    if let Some(e) = std::env::var("REPORT_EDGE")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
         opts.report_edge = e;
     }
-    if let Some(n) = std::env::var("REPORT_SAMPLES").ok().and_then(|v| v.parse().ok()) {
+    if let Some(n) = std::env::var("REPORT_SAMPLES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
         opts.report_samples = n;
     }
     let mut totals = Vec::new();
@@ -25,44 +31,42 @@ fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {
     for _ in 0..runs.max(1) {
         let t0 = Instant::now();
         let mut stages: Vec<(String, f64)> = Vec::new();
-        let mut cb = |s: &str| stages.push((s.to_string(), t0.elapsed().as_secs_f64()));
+        let mut cb =
+            |p: Progress<'_>| stages.push((p.stage.to_string(), t0.elapsed().as_secs_f64()));
         let (model, r) = reconstruct_with_progress(body, &opts, &mut cb).expect("reconstruct");
         let total = t0.elapsed().as_secs_f64();
-        if std::env::var_os("BVH").is_some() {
+        if std::env::var_os("MEASURE").is_some() {
             use trigbody_core::distance::{sample_surface, MeshDistance};
+            let t = Instant::now();
             let m = model
                 .tessellate(&trigbody_core::TessellationOptions {
                     target_edge: Some(opts.report_edge * model.height),
                     ..Default::default()
                 })
                 .unwrap();
+            let t_tess = t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            let d = MeshDistance::new(&m);
+            let t_bvh = t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            let ms = sample_surface(&m, 60000);
+            let t_samp = t.elapsed().as_secs_f64();
             let pts = match body {
                 BodyGeometry::Mesh(i) => sample_surface(i, 60000),
                 BodyGeometry::Cloud(c) => c.positions.iter().step_by(4).copied().collect(),
             };
             let t = Instant::now();
-            let a = MeshDistance::new(&m);
-            let ta = t.elapsed().as_secs_f64();
+            let x = d.distances(&pts);
+            let t_q = t.elapsed().as_secs_f64();
             let t = Instant::now();
-            let b = MeshDistance::new_median(&m);
-            let tb = t.elapsed().as_secs_f64();
-            for (name, d) in [("morton", &a), ("median", &b)] {
-                let t = Instant::now();
-                let x: f64 = pts.iter().map(|p| d.distance(*p)).sum();
-                let t1 = t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                let y: f64 = pts.chunks(1 << 20).flat_map(|c| {
-                    let mut prev: Option<(trigbody_core::Vec3, f64)> = None;
-                    c.iter().map(move |&p| {
-                        let bound = prev.map_or(f64::INFINITY, |(q, dd)| (dd + q.distance(p)) * (1.0 + 1e-9));
-                        let r = d.closest_within(p, bound).or_else(|| d.closest(p)).unwrap().distance;
-                        prev = Some((p, r));
-                        r
-                    }).collect::<Vec<_>>()
-                }).sum();
-                println!("{name}: {} tris, cold {:.1} ms, warm {:.1} ms ({x} {y})", m.triangles.len(), 1e3 * t1, 1e3 * t.elapsed().as_secs_f64());
-            }
-            println!("build morton {:.1} ms median {:.1} ms", 1e3 * ta, 1e3 * tb);
+            let y: Vec<f64> = pts.iter().map(|p| d.distance(*p)).collect();
+            let t_q1 = t.elapsed().as_secs_f64();
+            assert_eq!(x, y);
+            println!(
+                "{} tris: tessellate {:.1} ms, BVH {:.1} ms, 60k samples {:.1} ms, {} queries {:.1} ms ({:.1} ms cold, 1 thread)",
+                m.triangles.len(), 1e3 * t_tess, 1e3 * t_bvh, 1e3 * t_samp, pts.len(), 1e3 * t_q, 1e3 * t_q1
+            );
+            drop(ms);
         }
         totals.push(total);
         stages.push(("end".into(), total));

@@ -50,7 +50,7 @@
 
 use crate::cap::CapKind;
 use crate::curve::TrigCurve;
-use crate::distance::{parallel_map, sample_surface, DistanceStats, MeshDistance};
+use crate::distance::{coherent_map, parallel_map, sample_surface, DistanceStats, MeshDistance};
 use crate::fit::{fit_loop, FitOptions, LoopFit};
 use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Mesh, PointCloud};
@@ -364,9 +364,61 @@ pub fn reconstruct(
     reconstruct_with_progress(body, opts, &mut |_| {})
 }
 
-/// [`reconstruct`] calling `progress` with the name of each step as it
-/// starts (for a progress display).
+/// Where a long computation is, for a progress display: the step that
+/// starts now and how many of `total` steps are done (`done == total`
+/// once, at the end, with the stage `"done"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress<'a> {
+    /// The step starting, e.g. `sections: torso`.
+    pub stage: &'a str,
+    pub done: usize,
+    pub total: usize,
+}
+
+impl Progress<'_> {
+    /// `done / total` in `[0, 1]`.
+    pub fn fraction(&self) -> Real {
+        if self.total == 0 {
+            1.0
+        } else {
+            (self.done as Real / self.total as Real).min(1.0)
+        }
+    }
+}
+
+/// Steps [`reconstruct_with_progress`] reports: segmenting, sections of
+/// six parts, skinning, refining six parts, measuring.
+const RECONSTRUCT_STEPS: usize = 15;
+
+/// [`reconstruct`] calling `progress` as each step starts (segmenting,
+/// each part's sections, skinning, each part's refinement, measuring) and
+/// once at the end (see [`Progress`]).
 pub fn reconstruct_with_progress(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+    report_progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<(Body, Report), ReconstructError> {
+    let mut done = 0;
+    let mut progress = |stage: &str| {
+        report_progress(Progress {
+            stage,
+            done: done.min(RECONSTRUCT_STEPS - 1),
+            total: RECONSTRUCT_STEPS,
+        });
+        done += 1;
+    };
+    let result = reconstruct_steps(body, opts, &mut progress);
+    if result.is_ok() {
+        report_progress(Progress {
+            stage: "done",
+            done: RECONSTRUCT_STEPS,
+            total: RECONSTRUCT_STEPS,
+        });
+    }
+    result
+}
+
+fn reconstruct_steps(
     body: BodyGeometry<'_>,
     opts: &ReconstructOptions,
     progress: &mut dyn FnMut(&str),

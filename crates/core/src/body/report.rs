@@ -271,27 +271,18 @@ impl<'a> PointGrid<'a> {
     }
 
     /// The distance from each of `points` to the nearest point, exactly as
-    /// [`PointGrid::nearest`], faster for points in a spatially coherent
-    /// order: each search starts from the bound `d_prev + |p − p_prev|`
-    /// (triangle inequality), so it stops at the first shell beyond it; a
-    /// search finding nothing within the bound (rounding) runs unbounded.
-    /// Large batches are split over the available cores.
+    /// [`PointGrid::nearest`], faster: each search starts from the bound
+    /// the previous point's answer gives ([`coherent_map`]), so it skips
+    /// the cells beyond it; a search finding nothing within the bound (by
+    /// rounding) runs unbounded.
     pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
-        parallel_map(points, 4096, |run| {
-            let mut prev: Option<(Point3, Real)> = None;
-            run.iter()
-                .map(|&p| {
-                    let bound = prev.map_or(Real::INFINITY, |(q, d)| {
-                        (d + q.distance(p)) * (1.0 + 1e-9) + Real::MIN_POSITIVE
-                    });
-                    let mut d = self.nearest_within(p, bound);
-                    if !d.is_finite() {
-                        d = self.nearest(p);
-                    }
-                    prev = d.is_finite().then_some((p, d));
-                    d
-                })
-                .collect()
+        coherent_map(points, |p, bound| {
+            let d = self.nearest_within(p, bound);
+            if d.is_finite() {
+                d
+            } else {
+                self.nearest(p)
+            }
         })
     }
 

@@ -1174,12 +1174,16 @@ pub fn segment(
             });
         }
         let step = (max - min) / n as Real;
-        raw = (0..n)
-            .map(|k| {
-                let off = min + (k as Real + 0.5) * step;
-                (off, slicer.nodes_at(off, e1, e2))
-            })
-            .collect();
+        // Independent slices, split over the cores (in order).
+        let ks: Vec<usize> = (0..n).collect();
+        raw = crate::distance::parallel_map(&ks, 32, |run| {
+            run.iter()
+                .map(|&k| {
+                    let off = min + (k as Real + 0.5) * step;
+                    (off, slicer.nodes_at(off, e1, e2))
+                })
+                .collect()
+        });
         let largest = raw
             .iter()
             .flat_map(|(_, l)| l.iter().map(|l| l.area))

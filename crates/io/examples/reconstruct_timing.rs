@@ -66,6 +66,22 @@ fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {
                 "{} tris: tessellate {:.1} ms, BVH {:.1} ms, 60k samples {:.1} ms, {} queries {:.1} ms ({:.1} ms cold, 1 thread)",
                 m.triangles.len(), 1e3 * t_tess, 1e3 * t_bvh, 1e3 * t_samp, pts.len(), 1e3 * t_q, 1e3 * t_q1
             );
+            if let BodyGeometry::Cloud(c) = body {
+                for f in [0.01, 0.007, 0.005, 0.0035] {
+                    let t = Instant::now();
+                    let g = trigbody_core::body::PointGrid::new(&c.positions, f * model.height);
+                    let tb = t.elapsed().as_secs_f64();
+                    let t = Instant::now();
+                    let d = g.distances(&ms);
+                    println!(
+                        "grid {f}: build {:.1} ms, {} queries {:.1} ms (sum {})",
+                        1e3 * tb,
+                        ms.len(),
+                        1e3 * t.elapsed().as_secs_f64(),
+                        d.iter().sum::<f64>()
+                    );
+                }
+            }
             drop(ms);
         }
         totals.push(total);
@@ -110,6 +126,14 @@ fn main() {
     let runs: usize = args.next().and_then(|r| r.parse().ok()).unwrap_or(1);
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
     let mesh = read_mesh(&path, &ReadOptions::default()).expect("the built-in body");
+    if which.contains('.') {
+        let g = trigbody_io::read_geometry(&which, &ReadOptions::default()).expect("input");
+        match &g {
+            trigbody_io::Geometry::Mesh(m) => run(&which, BodyGeometry::Mesh(m), runs),
+            trigbody_io::Geometry::Points(c) => run(&which, BodyGeometry::Cloud(c), runs),
+        }
+        return;
+    }
     if which != "scan" {
         run("mesh", BodyGeometry::Mesh(&mesh), runs);
     }

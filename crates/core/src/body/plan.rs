@@ -129,24 +129,35 @@ pub(super) fn cut_to_rounded_end(
     let mut out: Vec<Cut> = Vec::new();
     let mut largest: Real = 0.0;
     let ts = fractions(t0, 1.0, step);
-    for &t in &ts[..ts.len().saturating_sub(1)] {
-        let c = match cut_and_fit(cutter, name, t, opts) {
-            Ok(c) => c,
-            Err(e) => {
-                if t >= watch_from {
-                    break;
+    let ts = &ts[..ts.len().saturating_sub(1)];
+    // Cut a few planes ahead over the cores, then walk them in order: the
+    // cuts past the end (at most one batch) are made and dropped.
+    let batch = std::thread::available_parallelism().map_or(1, |c| c.get().clamp(1, 8));
+    for chunk in ts.chunks(batch) {
+        let cuts = parallel_map(chunk, 1, |run| {
+            run.iter()
+                .map(|&t| cut_and_fit(cutter, name, t, opts))
+                .collect()
+        });
+        for (&t, c) in chunk.iter().zip(cuts) {
+            let c = match c {
+                Ok(c) => c,
+                Err(e) => {
+                    if t >= watch_from {
+                        return out;
+                    }
+                    warnings.push(format!("{name}: section at {t:.3} skipped: {e}"));
+                    continue;
                 }
-                warnings.push(format!("{name}: section at {t:.3} skipped: {e}"));
-                continue;
+            };
+            if t >= watch_from {
+                if largest > 0.0 && c.area < opts.end_area_fraction * largest {
+                    return out;
+                }
+                largest = largest.max(c.area);
             }
-        };
-        if t >= watch_from {
-            if largest > 0.0 && c.area < opts.end_area_fraction * largest {
-                break;
-            }
-            largest = largest.max(c.area);
+            out.push(c);
         }
-        out.push(c);
     }
     out
 }

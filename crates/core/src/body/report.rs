@@ -137,7 +137,22 @@ pub(super) fn measure_with(
         target_edge: Some(opts.report_edge * model.height),
         ..TessellationOptions::default()
     };
-    let surface = model.tessellate(&tess)?;
+    // The parts tessellated over the cores, joined in order (as
+    // `Body::tessellate`).
+    let meshes = parallel_map(&model.parts, 1, |run| {
+        run.iter()
+            .map(|p| {
+                tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
+                    part: p.name,
+                    source,
+                })
+            })
+            .collect()
+    });
+    let mut surface = Mesh::default();
+    for m in meshes {
+        append_mesh(&mut surface, &m?);
+    }
     let model_samples = sample_surface(&surface, opts.report_samples);
     // Model -> input while the model's hierarchy is built (two cores).
     let ((out_d, input_samples, input_count), model_dist) = std::thread::scope(|scope| {

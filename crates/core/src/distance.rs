@@ -593,6 +593,22 @@ mod tests {
     }
 
     #[test]
+    fn batched_distances_are_the_single_queries() {
+        let m = sphere(24);
+        let bvh = MeshDistance::new(&m);
+        // 10 000 points in no order, inside, on and outside the sphere.
+        let pts: Vec<Point3> = (0..10_000)
+            .map(|i| {
+                let t = i as Real * 0.618_033_988_749_895;
+                Vec3::new(t.sin(), (1.7 * t).cos(), (2.3 * t).sin()) * (0.2 + 1.6 * t.fract())
+            })
+            .collect();
+        let single: Vec<Real> = pts.iter().map(|p| bvh.distance(*p)).collect();
+        assert_eq!(bvh.distances(&pts), single);
+        assert!(bvh.distances(&[]).is_empty());
+    }
+
+    #[test]
     fn surface_samples_lie_on_the_surface_and_cover_it() {
         let m = sphere(16);
         let s = sample_surface(&m, 5000);

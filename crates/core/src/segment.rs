@@ -3153,6 +3153,109 @@ mod tests {
             .any(|w| w.starts_with("right arm not found")));
     }
 
+    /// The cut the way it was made before the [`Cutter`]: the geometry in
+    /// the ball around the axis point, sliced on its own.
+    fn ball_cut(
+        body: BodyGeometry<'_>,
+        seg: &Segmentation,
+        part: PartName,
+        at: Real,
+        normal: Option<Vec3>,
+    ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
+        let axis = seg.part(part).unwrap();
+        let (p, t) = axis.point_and_tangent(at).unwrap();
+        let n = match normal {
+            Some(n) if n.dot(t) < 0.0 => -n,
+            Some(n) => n,
+            None => t,
+        };
+        let plane = Plane::new(p, n).unwrap();
+        let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
+        let r2 = radius * radius;
+        match body {
+            BodyGeometry::Mesh(m) => {
+                section_mesh(&local_mesh(m, p, radius), &plane, &Default::default())
+                    .map(|s| s.loops.into_iter().map(|l| (l, None)).collect())
+                    .unwrap_or_default()
+            }
+            BodyGeometry::Cloud(c) => {
+                let idx: Vec<usize> = (0..c.positions.len())
+                    .filter(|&i| (c.positions[i] - p).norm_squared() <= r2)
+                    .collect();
+                let local = PointCloud {
+                    positions: idx.iter().map(|&i| c.positions[i]).collect(),
+                    normals: None,
+                };
+                let so = ScanSectionOptions {
+                    half_thickness: seg.point_spacing,
+                    cell_size: seg.point_spacing,
+                    ..Default::default()
+                };
+                CloudSlicer::new(&local, plane.normal)
+                    .unwrap()
+                    .section_at(plane.offset(), &so)
+                    .map(|s| {
+                        s.loops
+                            .into_iter()
+                            .map(|l| {
+                                let ids = l.scan_indices.iter().map(|&k| idx[k]).collect();
+                                (l.outline, Some(ids))
+                            })
+                            .collect()
+                    })
+                    .unwrap_or_default()
+            }
+        }
+    }
+
+    #[test]
+    fn cutter_gives_the_ball_cuts() {
+        let mesh = shapes::stick_body(2);
+        let scan = crate::scanner::virtual_scan(
+            &mesh,
+            &crate::scanner::ScannerOptions {
+                points: 60_000,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .cloud;
+        let opts = SegmentOptions::default();
+        for body in [BodyGeometry::Mesh(&mesh), BodyGeometry::Cloud(&scan)] {
+            let seg = segment(body, &opts).unwrap();
+            let cutter = Cutter::new(body, &seg);
+            let up = seg.frame.up;
+            let mut compared = 0;
+            for part in [PartName::Torso, PartName::Head, PartName::LeftLeg] {
+                for k in 1..10 {
+                    let at = k as Real / 10.0;
+                    // Horizontal (shared slicers) and along the axis (ball grids).
+                    for normal in [Some(up), None] {
+                        let Ok(cut) = cutter.cut(part, at, normal, true, &opts) else {
+                            continue;
+                        };
+                        let reference = ball_cut(body, &seg, part, at, normal);
+                        let same = reference.iter().any(|(l, ids)| {
+                            if matches!(body, BodyGeometry::Cloud(_)) || normal.is_none() {
+                                // Exactly the same points.
+                                l.points == cut.outline.points && *ids == cut.scan_indices
+                            } else {
+                                // The whole mesh's loop: the same polygon, maybe
+                                // starting elsewhere.
+                                l.points.len() == cut.outline.points.len()
+                                    && (l.area - cut.outline.area).abs() <= 1e-12 * l.area
+                                    && l.points.iter().all(|p| cut.outline.points.contains(p))
+                            }
+                        });
+                        assert!(same, "{part} at {at} normal {normal:?}");
+                        compared += 1;
+                    }
+                }
+            }
+            assert!(compared >= 40, "{compared}");
+        }
+    }
+
     #[test]
     fn hull_and_box_filter() {
         let sq = [

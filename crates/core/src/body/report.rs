@@ -403,5 +403,16 @@ mod tests {
                 .fold(Real::INFINITY, Real::min);
             assert!((grid.nearest(q) - brute).abs() < 1e-12, "{q:?}");
         }
+        let queries: Vec<Point3> = (0..9000)
+            .map(|_| {
+                Vec3::new(
+                    3.0 * rng.uniform() - 1.0,
+                    3.0 * rng.uniform() - 0.5,
+                    rng.uniform(),
+                )
+            })
+            .collect();
+        let single: Vec<Real> = queries.iter().map(|q| grid.nearest(*q)).collect();
+        assert_eq!(grid.distances(&queries), single);
     }
 }

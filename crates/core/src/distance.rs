@@ -252,15 +252,19 @@ impl<'m> MeshDistance<'m> {
     }
 
     /// The distance from each of `points` to the surface (infinite for an
-    /// empty mesh), exactly as [`MeshDistance::distance`], faster (see
-    /// [`coherent_map`]: each query starts from the bound the previous
-    /// point's nearest surface point gives; a query finding nothing within
-    /// it, by rounding, searches unbounded).
+    /// empty mesh), exactly as [`MeshDistance::distance`], faster: the
+    /// points are visited in Morton order ([`coherent_map`]) and each search
+    /// starts from the previous point's nearest triangle, whose distance
+    /// (usually the answer or close to it) prunes the hierarchy from the
+    /// root.
     pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
-        coherent_map(points, |p, bound| {
-            self.closest_within(p, bound)
-                .or_else(|| self.closest(p))
-                .map_or(Real::INFINITY, |c| c.distance)
+        coherent_map(points, |p, seed: &mut Option<usize>| {
+            let c = match *seed {
+                Some(t) => self.closest_from(p, t),
+                None => self.closest(p),
+            };
+            *seed = c.map(|c| c.triangle);
+            c.map_or(Real::INFINITY, |c| c.distance)
         })
     }
 
@@ -271,18 +275,43 @@ impl<'m> MeshDistance<'m> {
 
     /// The nearest surface point closer than `max_distance`, if any.
     pub fn closest_within(&self, p: Point3, max_distance: Real) -> Option<Closest> {
+        self.search(p, max_distance * max_distance, None)
+    }
+
+    /// The nearest surface point, starting from triangle `seed`: its
+    /// distance bounds the search, and it is the answer unless a triangle
+    /// lies strictly closer (so the distance is exactly
+    /// [`MeshDistance::distance`]'s).
+    fn closest_from(&self, p: Point3, seed: usize) -> Option<Closest> {
+        let [a, b, c] = self.mesh.triangle(seed);
+        let q = closest_point_on_triangle(p, a, b, c);
+        let d = (q - p).norm_squared();
+        if d.is_finite() {
+            self.search(p, d, Some((q, seed)))
+        } else {
+            self.closest(p)
+        }
+    }
+
+    /// Depth-first search for the nearest triangle closer than `√best_sq`
+    /// (else `best`), nearer child first; a node is entered only while its
+    /// box is closer than the best so far.
+    fn search(
+        &self,
+        p: Point3,
+        mut best_sq: Real,
+        mut best: Option<(Point3, usize)>,
+    ) -> Option<Closest> {
         if self.nodes.is_empty() {
             return None;
         }
-        let mut best_sq = max_distance * max_distance;
-        let mut best: Option<(Point3, usize)> = None;
-        let mut stack: Vec<u32> = Vec::with_capacity(64);
-        stack.push(0);
-        while let Some(ni) = stack.pop() {
-            let node = &self.nodes[ni as usize];
-            if box_distance_sq(&node.bounds, p) >= best_sq {
+        let mut stack: Vec<(u32, Real)> = Vec::with_capacity(64);
+        stack.push((0, box_distance_sq(&self.nodes[0].bounds, p)));
+        while let Some((ni, dn)) = stack.pop() {
+            if dn >= best_sq {
                 continue;
             }
+            let node = &self.nodes[ni as usize];
             if node.count > 0 {
                 let s = node.start as usize;
                 for &t in &self.order[s..s + node.count as usize] {
@@ -299,12 +328,16 @@ impl<'m> MeshDistance<'m> {
                 let dl = box_distance_sq(&self.nodes[l as usize].bounds, p);
                 let dr = box_distance_sq(&self.nodes[r as usize].bounds, p);
                 // Visit the nearer child first (pushed last).
-                if dl <= dr {
-                    stack.push(r);
-                    stack.push(l);
+                let (near, far) = if dl <= dr {
+                    ((l, dl), (r, dr))
                 } else {
-                    stack.push(l);
-                    stack.push(r);
+                    ((r, dr), (l, dl))
+                };
+                if far.1 < best_sq {
+                    stack.push(far);
+                }
+                if near.1 < best_sq {
+                    stack.push(near);
                 }
             }
         }
@@ -397,30 +430,23 @@ pub fn distances_to(target: &MeshDistance, points: &[Point3]) -> Vec<Real> {
     target.distances(points)
 }
 
-/// `query(p, bound)` for every point, where `bound` bounds the answer from
-/// above: the points are visited in Morton order (sorted along a Z-order
-/// curve, so consecutive points are near each other), `bound` is
-/// `(d_prev + |p − p_prev|)(1 + 10⁻⁹)` from the previous point's answer
-/// (for a nearest-distance query the triangle inequality makes it an upper
-/// bound; the factor covers rounding), infinite for the first point of a
-/// run and after an infinite answer. Runs are split over the cores
+/// `query(p, state)` for every point, the points visited in Morton order
+/// (sorted along a Z-order curve, so consecutive points are near each
+/// other) with a `state` per run (starting from `S::default()`) that a
+/// query leaves for the next: e.g. the previous point's nearest element, a
+/// first guess that bounds the next search. Runs are split over the cores
 /// ([`parallel_map`], at least 4096 points each); the answers come back in
-/// the order of `points`. With `query` exact whatever the bound, the
+/// the order of `points`. With `query` exact whatever the state, the
 /// answers are exactly those of querying each point alone.
-pub fn coherent_map(points: &[Point3], query: impl Fn(Point3, Real) -> Real + Sync) -> Vec<Real> {
+pub fn coherent_map<S: Default>(
+    points: &[Point3],
+    query: impl Fn(Point3, &mut S) -> Real + Sync,
+) -> Vec<Real> {
     let (order, _) = morton_sort(points);
     let answers = parallel_map(&order, 4096, |run| {
-        let mut prev: Option<(Point3, Real)> = None;
+        let mut state = S::default();
         run.iter()
-            .map(|&i| {
-                let p = points[i as usize];
-                let bound = prev.map_or(Real::INFINITY, |(q, d)| {
-                    (d + q.distance(p)) * (1.0 + 1e-9) + Real::MIN_POSITIVE
-                });
-                let d = query(p, bound);
-                prev = (d.is_finite() && p.is_finite()).then_some((p, d));
-                d
-            })
+            .map(|&i| query(points[i as usize], &mut state))
             .collect()
     });
     let mut out = vec![0.0; points.len()];

@@ -282,31 +282,34 @@ impl<'a> PointGrid<'a> {
 
     /// Distance from `p` to the nearest point (infinite for an empty cloud).
     pub fn nearest(&self, p: Point3) -> Real {
-        self.nearest_within(p, Real::INFINITY)
+        self.nearest_from(p, None).0
     }
 
     /// The distance from each of `points` to the nearest point, exactly as
-    /// [`PointGrid::nearest`], faster: each search starts from the bound
-    /// the previous point's answer gives ([`coherent_map`]), so it skips
-    /// the cells beyond it; a search finding nothing within the bound (by
-    /// rounding) runs unbounded.
+    /// [`PointGrid::nearest`], faster: the points are visited in Morton
+    /// order ([`coherent_map`]) and each search starts from the previous
+    /// point's nearest point, whose distance bounds it (cells farther away
+    /// are skipped).
     pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
-        coherent_map(points, |p, bound| {
-            let d = self.nearest_within(p, bound);
-            if d.is_finite() {
-                d
-            } else {
-                self.nearest(p)
-            }
+        coherent_map(points, |p, seed: &mut Option<u32>| {
+            let (d, i) = self.nearest_from(p, *seed);
+            *seed = i;
+            d
         })
     }
 
-    /// The distance from `p` to the nearest point closer than `bound`,
-    /// else infinity.
-    fn nearest_within(&self, p: Point3, bound: Real) -> Real {
+    /// The distance from `p` to the nearest point and its index, starting
+    /// from point `seed` (its distance bounds the search; it is the answer
+    /// unless a point lies strictly closer).
+    fn nearest_from(&self, p: Point3, seed: Option<u32>) -> (Real, Option<u32>) {
         if self.order.is_empty() || !p.is_finite() {
-            return Real::INFINITY;
+            return (Real::INFINITY, None);
         }
+        let seed = seed.filter(|&i| self.points.get(i as usize).is_some_and(|q| q.is_finite()));
+        let (mut best, mut best_i) = match seed {
+            Some(i) => (self.points[i as usize].distance(p), Some(i)),
+            None => (Real::INFINITY, None),
+        };
         let c = self.coords(p);
         let clamp = |v: i64, n: usize| v.clamp(0, n as i64 - 1);
         let cc = [
@@ -329,8 +332,6 @@ impl<'a> PointGrid<'a> {
         );
         let outside2 = (p - q).norm_squared();
         let maxr = *self.dims.iter().max().unwrap_or(&1) as i64;
-        let mut best = bound;
-        let mut found = false;
         for r in 0..=maxr {
             // Every point in shell r is at least (r - 1) cells from q.
             let inner = ((r - 1).max(0) as Real) * self.cell;
@@ -365,18 +366,14 @@ impl<'a> PointGrid<'a> {
                             let d = self.points[i as usize].distance(p);
                             if d < best {
                                 best = d;
-                                found = true;
+                                best_i = Some(i);
                             }
                         }
                     }
                 }
             }
         }
-        if found {
-            best
-        } else {
-            Real::INFINITY
-        }
+        (best, best_i)
     }
 }
 

@@ -432,7 +432,7 @@ pub fn distances_to(target: &MeshDistance, points: &[Point3]) -> Vec<Real> {
 
 /// `query(p, state)` for every point, the points visited in Morton order
 /// (sorted along a Z-order curve, so consecutive points are near each
-/// other) with a `state` per run (starting from `S::default()`) that a
+/// other; fewer than 4096 points keep their order) with a `state` per run (starting from `S::default()`) that a
 /// query leaves for the next: e.g. the previous point's nearest element, a
 /// first guess that bounds the next search. Runs are split over the cores
 /// ([`parallel_map`], at least 4096 points each); the answers come back in
@@ -442,7 +442,13 @@ pub fn coherent_map<S: Default>(
     points: &[Point3],
     query: impl Fn(Point3, &mut S) -> Real + Sync,
 ) -> Vec<Real> {
-    let (order, _) = morton_sort(points);
+    // A few points (a curve's samples) keep their order: sorting would
+    // cost more than it saves.
+    let order: Vec<u32> = if points.len() < 4096 {
+        (0..points.len() as u32).collect()
+    } else {
+        morton_sort(points).0
+    };
     let answers = parallel_map(&order, 4096, |run| {
         let mut state = S::default();
         run.iter()

@@ -2185,7 +2185,11 @@ pub fn cut_part_along(
     outermost: bool,
     opts: &SegmentOptions,
 ) -> Result<PartCut, SegmentError> {
-    Cutter::new(body, seg).cut(part, at, normal, outermost, opts)
+    Cutter {
+        reuse: false,
+        ..Cutter::new(body, seg)
+    }
+    .cut(part, at, normal, outermost, opts)
 }
 
 /// Many cuts of one body ([`cut_part_along`] for each), with what every
@@ -2215,6 +2219,10 @@ pub fn cut_part_along(
 pub struct Cutter<'a> {
     body: BodyGeometry<'a>,
     seg: &'a Segmentation,
+    /// False for one cut ([`cut_part_along`]): the ball's geometry is
+    /// gathered directly (one pass over the input) instead of building
+    /// shared slicers and grids first.
+    reuse: bool,
     /// Mesh slicers along `up` and `−up` (`None`: the mesh is invalid).
     mesh_slicers: [OnceLock<Option<MeshSlicer<'a>>>; 2],
     /// Cloud indices sorted by height along `up`, and those heights.
@@ -2236,6 +2244,7 @@ impl<'a> Cutter<'a> {
         Cutter {
             body,
             seg,
+            reuse: true,
             mesh_slicers: [OnceLock::new(), OnceLock::new()],
             sorted: OnceLock::new(),
             grid: OnceLock::new(),
@@ -2325,7 +2334,8 @@ impl<'a> Cutter<'a> {
     ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
         match self.body {
             BodyGeometry::Mesh(m) => {
-                let section = match self.vertical(plane.normal) {
+                let shared = self.vertical(plane.normal).filter(|_| self.reuse);
+                let section = match shared {
                     Some(k) => {
                         let slicer = self.mesh_slicers[k]
                             .get_or_init(|| MeshSlicer::new(m, plane.normal, &opts.section).ok());
@@ -2336,7 +2346,11 @@ impl<'a> Cutter<'a> {
                         })
                     }
                     None => {
-                        let local = self.ball_mesh(m, centre, radius);
+                        let local = if self.reuse {
+                            self.ball_mesh(m, centre, radius)
+                        } else {
+                            local_mesh(m, centre, radius)
+                        };
                         if local.triangles.is_empty() {
                             None
                         } else {
@@ -2483,6 +2497,7 @@ impl<'a> Cutter<'a> {
             }
         };
         match self.vertical(plane.normal) {
+            _ if !self.reuse => (0..pos.len() as u32).for_each(&mut keep),
             Some(_) => {
                 let up = self.seg.frame.up;
                 let (order, heights) = self.sorted.get_or_init(|| {
@@ -3235,6 +3250,13 @@ mod tests {
                             continue;
                         };
                         let reference = ball_cut(body, &seg, part, at, normal);
+                        // One cut on its own is the ball's cut exactly.
+                        let once =
+                            cut_part_along(body, &seg, part, at, normal, true, &opts).unwrap();
+                        assert!(reference
+                            .iter()
+                            .any(|(l, ids)| l.points == once.outline.points
+                                && *ids == once.scan_indices));
                         let same = reference.iter().any(|(l, ids)| {
                             if matches!(body, BodyGeometry::Cloud(_)) || normal.is_none() {
                                 // Exactly the same points.

@@ -7,6 +7,9 @@
 //! ```text
 //! cargo run --release -p trigbody-io --example reconstruct_timing [mesh|scan|both|FILE] [RUNS]
 //! ```
+//!
+//! `REPORT_EDGE` and `REPORT_SAMPLES` in the environment override the
+//! report's tessellation edge (fraction of H) and sample count.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -16,7 +19,15 @@ use trigbody_core::segment::BodyGeometry;
 use trigbody_io::{read_geometry, read_mesh, Geometry, ReadOptions};
 
 fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {
-    let opts = ReconstructOptions::default();
+    let mut opts = ReconstructOptions::default();
+    // The report's statistics, to see how its numbers move with them.
+    let env = |name: &str| std::env::var(name).ok();
+    if let Some(e) = env("REPORT_EDGE").and_then(|v| v.parse().ok()) {
+        opts.report_edge = e;
+    }
+    if let Some(n) = env("REPORT_SAMPLES").and_then(|v| v.parse().ok()) {
+        opts.report_samples = n;
+    }
     let mut totals = Vec::new();
     let mut best: Vec<(String, f64)> = Vec::new();
     for _ in 0..runs.max(1) {

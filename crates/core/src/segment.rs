@@ -135,7 +135,7 @@ use crate::linalg::symmetric_eigen3;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::mesh::{Mesh, MeshError, PointCloud};
 use crate::scan_section::{
-    height_key, section_of_slab, CloudSlicer, ScanSectionError, ScanSectionOptions,
+    height_key, section_of_slab, sort_keyed, CloudSlicer, ScanSectionError, ScanSectionOptions,
 };
 use crate::section::{
     point_in_polygon, polygon_area_centroid, section_mesh, MeshSlicer, Plane, SectionError,
@@ -2506,7 +2506,7 @@ impl<'a> Cutter<'a> {
                         .enumerate()
                         .map(|(i, p)| (height_key(p.dot(up)), i as u32))
                         .collect();
-                    keyed.sort_unstable();
+                    sort_keyed(&mut keyed);
                     let order: Vec<u32> = keyed.iter().map(|k| k.1).collect();
                     let heights = order.iter().map(|&i| pos[i as usize].dot(up)).collect();
                     (order, heights)

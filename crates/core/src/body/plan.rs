@@ -382,7 +382,8 @@ fn curve_points(curve: &crate::curve::SpaceCurve, n: usize) -> Vec<Point3> {
 /// Each point's distance to the 256-gon is exact: the previous point's
 /// nearest edge gives a first bound `d`, and an edge with midpoint `m` and
 /// half-length `h` is only measured when `|q − m| < d + h` (every point of
-/// the edge lies within `h` of `m`).
+/// the edge lies within `h` of `m`); the edges sorted by `m_x` limit the
+/// candidates to `|m_x − q_x| ≤ d + h_max` by binary search.
 pub(super) fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
     let f = &cut.fit.curve.frame;
     let n = 256;
@@ -414,11 +415,21 @@ pub(super) fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
         let (ex, ey) = (ax + t * dx - qx, ay + t * dy - qy);
         (ex * ex + ey * ey).sqrt()
     };
+    // Edges by their midpoint's x: an edge closer than `d` has its
+    // midpoint within `d + h_max` of the point in x.
+    let mut by_x: Vec<usize> = (0..n).collect();
+    by_x.sort_by(|&a, &b| edges[a][5].total_cmp(&edges[b][5]));
+    let xs: Vec<Real> = by_x.iter().map(|&i| edges[i][5]).collect();
+    let h_max = edges.iter().map(|e| e[7]).fold(0.0, Real::max);
     let mut all = Vec::with_capacity(cut.fit.plane_points.len());
     let mut near = 0;
     for q in &cut.fit.plane_points {
         let mut best = dist(&edges[near], q.x, q.y);
-        for (i, e) in edges.iter().enumerate() {
+        let window = (best + h_max) * (1.0 + 1e-9);
+        let lo = xs.partition_point(|&x| x < q.x - window);
+        let hi = xs.partition_point(|&x| x <= q.x + window);
+        for &i in &by_x[lo..hi] {
+            let e = &edges[i];
             let (mx, my) = (e[5] - q.x, e[6] - q.y);
             let reach = best + e[7];
             if mx * mx + my * my >= reach * reach {

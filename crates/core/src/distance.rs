@@ -195,62 +195,6 @@ impl<'m> MeshDistance<'m> {
         MeshDistance { mesh, nodes, order }
     }
 
-    #[doc(hidden)]
-    pub fn new_median(mesh: &'m Mesh) -> MeshDistance<'m> {
-        let n = mesh.triangles.len();
-        let mut order: Vec<u32> = (0..n as u32).collect();
-        let bounds: Vec<Aabb> = (0..n).map(|t| tri_bounds(mesh, t)).collect();
-        let centers: Vec<Point3> = bounds.iter().map(|b| b.center()).collect();
-        let mut nodes = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
-        if n > 0 {
-            nodes.push(Node {
-                bounds: bounds[0],
-                start: 0,
-                count: 0,
-            });
-            // (node index, start, end) to split.
-            let mut stack = vec![(0usize, 0usize, n)];
-            while let Some((ni, s, e)) = stack.pop() {
-                let b = order[s..e]
-                    .iter()
-                    .map(|&t| bounds[t as usize])
-                    .reduce(union)
-                    .unwrap_or(bounds[0]);
-                nodes[ni].bounds = b;
-                if e - s <= LEAF_SIZE {
-                    nodes[ni].start = s as u32;
-                    nodes[ni].count = (e - s) as u32;
-                    continue;
-                }
-                let size = b.size();
-                let axis = if size.x >= size.y && size.x >= size.z {
-                    0
-                } else if size.y >= size.z {
-                    1
-                } else {
-                    2
-                };
-                let mid = (s + e) / 2;
-                order[s..e].select_nth_unstable_by(mid - s, |&x, &y| {
-                    centers[x as usize][axis].total_cmp(&centers[y as usize][axis])
-                });
-                let left = nodes.len();
-                let empty = Node {
-                    bounds: b,
-                    start: 0,
-                    count: 0,
-                };
-                nodes.push(empty);
-                nodes.push(empty);
-                nodes[ni].start = left as u32;
-                nodes[ni].count = 0;
-                stack.push((left, s, mid));
-                stack.push((left + 1, mid, e));
-            }
-        }
-        MeshDistance { mesh, nodes, order }
-    }
-
     /// The distance from each of `points` to the surface (infinite for an
     /// empty mesh), exactly as [`MeshDistance::distance`], faster: the
     /// points are visited in Morton order ([`coherent_map`]) and each search

@@ -451,7 +451,7 @@ pub(crate) fn sort_keyed(keyed: &mut Vec<(u64, u32)>) {
         for k in keyed.iter() {
             count[((k.0 >> shift) & 0xff) as usize + 1] += 1;
         }
-        if count.iter().any(|&c| c == keyed.len()) {
+        if count.contains(&keyed.len()) {
             continue; // every key has this digit
         }
         for b in 0..256 {

@@ -50,7 +50,7 @@
 
 use crate::cap::CapKind;
 use crate::curve::TrigCurve;
-use crate::distance::{coherent_map, parallel_map, sample_surface, DistanceStats, MeshDistance};
+use crate::distance::{sample_surface, DistanceStats, MeshDistance};
 use crate::fit::{fit_loop, FitOptions, LoopFit};
 use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Mesh, PointCloud};

@@ -1,6 +1,7 @@
 //! Cutting, fitting, refining and skinning each part (pipeline steps 2-3).
 
 use super::*;
+use crate::distance::parallel_map;
 
 /// One cut-and-fitted section.
 pub(super) struct Cut {

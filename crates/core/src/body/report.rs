@@ -1,6 +1,7 @@
 //! The [`Report`]: how well and how compactly a [`Body`] fits its input.
 
 use super::*;
+use crate::distance::{coherent_map, parallel_map};
 
 /// Per-part numbers of the [`Report`].
 #[derive(Clone, Debug, PartialEq)]

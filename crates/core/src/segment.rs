@@ -2423,7 +2423,17 @@ impl<'a> Cutter<'a> {
             }
             out
         };
-        let picked = ones(&tri_bits);
+        // (A triangle naming a vertex the mesh lacks is left out: the mesh
+        // should have been validated by the segmentation.)
+        let count = m.positions.len();
+        let picked: Vec<u32> = ones(&tri_bits)
+            .into_iter()
+            .filter(|&t| {
+                m.triangles[t as usize]
+                    .iter()
+                    .all(|&v| (v as usize) < count)
+            })
+            .collect();
         let mut vert_bits = vec![0u64; m.positions.len().div_ceil(64)];
         for &t in &picked {
             for v in m.triangles[t as usize] {

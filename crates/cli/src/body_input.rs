@@ -17,11 +17,12 @@
 use crate::exit::bad;
 use anyhow::Result;
 use std::path::Path;
+use trigbody_core::body::reconstruct_with_progress;
 use trigbody_core::body::{Body, BodyPart, BodyTransition, Units};
 use trigbody_core::measure::{measure_mesh, MeasureOptions, Measurements};
 use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};
 use trigbody_core::segment::{BodyFrame, BodyGeometry, PartName};
-use trigbody_core::{reconstruct, tessellate_part, Mesh, ReconstructOptions, TessellationOptions};
+use trigbody_core::{tessellate_part, Mesh, ReconstructOptions, TessellationOptions};
 use trigbody_io::body_file::part_file_name;
 use trigbody_io::model::{read_model, Model};
 use trigbody_io::{Geometry, ReadOptions};
@@ -141,8 +142,12 @@ pub fn load_body(path: &Path, read: &ReadOptions) -> Result<LoadedBody> {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
     };
-    let (body, _) = reconstruct(g, &ReconstructOptions::default())
-        .map_err(|e| bad(format!("{}: reconstructing the body: {e}", path.display())))?;
+    let mut bar = crate::progress::ProgressBar::new("reconstructing");
+    let result =
+        reconstruct_with_progress(g, &ReconstructOptions::default(), &mut |p| bar.update(p));
+    bar.finish();
+    let (body, _) =
+        result.map_err(|e| bad(format!("{}: reconstructing the body: {e}", path.display())))?;
     Ok(LoadedBody {
         body,
         input: Some(geometry),

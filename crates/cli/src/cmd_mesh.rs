@@ -4,7 +4,7 @@ use crate::exit::bad;
 use crate::output::{refuse_input, write_file};
 use anyhow::Result;
 use clap::Args;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use trigbody_core::{tessellate_part, Mesh, Real, TessellationOptions};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::read_model;
@@ -33,12 +33,6 @@ pub struct MeshArgs {
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
-}
-
-/// Writes `bytes` to a new file; an existing one only with `force` (kept
-/// for the commands not yet moved to [`write_file`]).
-pub fn write_new(path: &Path, bytes: &[u8], force: bool) -> Result<()> {
-    write_file(path, bytes, &[], force)
 }
 
 /// All meshes in one (indices offset).

@@ -3,13 +3,13 @@
 //! with a report of its size and its distance to the input.
 
 use crate::cmd_fit::parse_vec3;
-use crate::cmd_mesh::write_new;
 use crate::exit::{bad, print};
+use crate::output::{refuse_input, write_file};
+use crate::progress::ProgressBar;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
-use std::io::IsTerminal;
 use std::path::PathBuf;
-use trigbody_core::body::{reconstruct_with_progress, ReconstructOptions, Report, Units};
+use trigbody_core::body::{reconstruct_with_progress, Progress, ReconstructOptions, Report, Units};
 use trigbody_core::segment::BodyGeometry;
 use trigbody_core::{tessellate_part, Mesh, Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json};
@@ -132,6 +132,13 @@ fn table(r: &Report) -> String {
 }
 
 pub fn run(args: ReconstructArgs) -> Result<()> {
+    let started = std::time::Instant::now();
+    let mut bar = ProgressBar::new("reconstructing");
+    bar.update(Progress {
+        stage: "reading the input",
+        done: 0,
+        total: 1,
+    });
     let (name, geometry) = match &args.input {
         Some(path) => (
             path.display().to_string(),
@@ -159,27 +166,22 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
     };
-    let show = std::io::stderr().is_terminal();
-    let started = std::time::Instant::now();
-    let mut progress = |step: &str| {
-        if show {
-            eprintln!("[{:>6.2} s] {step}", started.elapsed().as_secs_f64());
-        }
-    };
-    let (model, report) = reconstruct_with_progress(body, &options, &mut progress)
-        .map_err(|e| bad(format!("{name}: {e}")))?;
+    let result = reconstruct_with_progress(body, &options, &mut |p| bar.update(p));
+    bar.finish();
+    let (model, report) = result.map_err(|e| bad(format!("{name}: {e}")))?;
+    let inputs: Vec<&std::path::Path> = args.input.as_deref().into_iter().collect();
     for w in &report.warnings {
         eprintln!("trigbody: warning: {name}: {w}");
     }
     if let Some(path) = &args.output {
         let mut bytes = Vec::new();
         write_model(&mut bytes, &model_of_body(&model))?;
-        write_new(path, &bytes, args.force)?;
+        write_file(path, &bytes, &inputs, args.force)?;
     }
     if let Some(path) = &args.report {
         let mut bytes = serde_json::to_vec_pretty(&report_json(&report))?;
         bytes.push(b'\n');
-        write_new(path, &bytes, args.force)?;
+        write_file(path, &bytes, &inputs, args.force)?;
     }
     if let Some(path) = &args.mesh {
         let tess = TessellationOptions {
@@ -218,7 +220,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
                 .zip(&meshes)
                 .map(|(name, mesh)| NamedMesh { name, mesh })
                 .collect();
-            write_new(path, &glb_bytes(&named)?, args.force)?;
+            write_file(path, &glb_bytes(&named)?, &inputs, args.force)?;
         } else if matches!(
             Format::from_path(path),
             Some(Format::Obj | Format::Ply | Format::Stl)
@@ -231,6 +233,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
                 overwrite: args.force,
                 ..WriteOptions::default()
             };
+            refuse_input(path, &inputs)?;
             write_mesh(path, &all, &wo).map_err(bad)?;
         } else {
             return Err(bad(format!(

@@ -18,6 +18,7 @@ mod examples;
 mod exit;
 mod output;
 mod panels;
+mod progress;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

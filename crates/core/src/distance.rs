@@ -130,53 +130,45 @@ pub fn closest_point_on_triangle(p: Point3, a: Point3, b: Point3, c: Point3) -> 
 }
 
 impl<'m> MeshDistance<'m> {
-    /// Builds the hierarchy (median splits along the longest axis). The mesh
-    /// should be valid ([`Mesh::validate`]); an empty mesh gives a hierarchy
-    /// whose queries return `None`.
+    /// Builds the hierarchy over the triangles sorted along a Morton
+    /// (Z-order) curve of their box centres, quantized to 1024 steps per
+    /// axis of the centres' bounding box: each node's triangles are a run
+    /// of that order, split where the highest bit in which the run's first
+    /// and last codes differ changes (halves of the node's box along the
+    /// axis of that bit), in the middle where the codes are equal; boxes
+    /// are filled bottom-up. Linear passes and one radix sort, instead of
+    /// a median search per node (0.1 s for the 380 000 triangles of a
+    /// reconstruction report's model surface). The mesh should be valid
+    /// ([`Mesh::validate`]); an empty mesh gives a hierarchy whose queries
+    /// return `None`.
     pub fn new(mesh: &'m Mesh) -> MeshDistance<'m> {
         let n = mesh.triangles.len();
-        let mut order: Vec<u32> = (0..n as u32).collect();
         let bounds: Vec<Aabb> = (0..n).map(|t| tri_bounds(mesh, t)).collect();
-        let centers: Vec<Point3> = bounds.iter().map(|b| b.center()).collect();
-        let mut nodes = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
+        let (order, codes) = morton_order(&bounds);
+        let mut nodes: Vec<Node> = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
         if n > 0 {
-            nodes.push(Node {
+            let empty = Node {
                 bounds: bounds[0],
                 start: 0,
                 count: 0,
-            });
+            };
+            nodes.push(empty);
             // (node index, start, end) to split.
             let mut stack = vec![(0usize, 0usize, n)];
             while let Some((ni, s, e)) = stack.pop() {
-                let b = order[s..e]
-                    .iter()
-                    .map(|&t| bounds[t as usize])
-                    .reduce(union)
-                    .unwrap_or(bounds[0]);
-                nodes[ni].bounds = b;
                 if e - s <= LEAF_SIZE {
                     nodes[ni].start = s as u32;
                     nodes[ni].count = (e - s) as u32;
                     continue;
                 }
-                let size = b.size();
-                let axis = if size.x >= size.y && size.x >= size.z {
-                    0
-                } else if size.y >= size.z {
-                    1
+                let diff = codes[s] ^ codes[e - 1];
+                let mid = if diff == 0 {
+                    (s + e) / 2
                 } else {
-                    2
+                    let bit = 1u32 << (31 - diff.leading_zeros());
+                    s + codes[s..e].partition_point(|&c| c & bit == 0)
                 };
-                let mid = (s + e) / 2;
-                order[s..e].select_nth_unstable_by(mid - s, |&x, &y| {
-                    centers[x as usize][axis].total_cmp(&centers[y as usize][axis])
-                });
                 let left = nodes.len();
-                let empty = Node {
-                    bounds: b,
-                    start: 0,
-                    count: 0,
-                };
                 nodes.push(empty);
                 nodes.push(empty);
                 nodes[ni].start = left as u32;
@@ -184,8 +176,40 @@ impl<'m> MeshDistance<'m> {
                 stack.push((left, s, mid));
                 stack.push((left + 1, mid, e));
             }
+            // Children come after their parents: boxes bottom-up.
+            for ni in (0..nodes.len()).rev() {
+                let node = nodes[ni];
+                nodes[ni].bounds = if node.count > 0 {
+                    let s = node.start as usize;
+                    order[s..s + node.count as usize]
+                        .iter()
+                        .map(|&t| bounds[t as usize])
+                        .reduce(union)
+                        .unwrap_or(node.bounds)
+                } else {
+                    let l = node.start as usize;
+                    union(nodes[l].bounds, nodes[l + 1].bounds)
+                };
+            }
         }
         MeshDistance { mesh, nodes, order }
+    }
+
+    /// The distance from each of `points` to the surface (infinite for an
+    /// empty mesh), exactly as [`MeshDistance::distance`], faster: the
+    /// points are visited in Morton order ([`coherent_map`]) and each search
+    /// starts from the previous point's nearest triangle, whose distance
+    /// (usually the answer or close to it) prunes the hierarchy from the
+    /// root.
+    pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
+        coherent_map(points, |p, seed: &mut Option<usize>| {
+            let c = match *seed {
+                Some(t) => self.closest_from(p, t),
+                None => self.closest(p),
+            };
+            *seed = c.map(|c| c.triangle);
+            c.map_or(Real::INFINITY, |c| c.distance)
+        })
     }
 
     /// The surface point nearest to `p`, or `None` for an empty mesh.
@@ -195,18 +219,43 @@ impl<'m> MeshDistance<'m> {
 
     /// The nearest surface point closer than `max_distance`, if any.
     pub fn closest_within(&self, p: Point3, max_distance: Real) -> Option<Closest> {
+        self.search(p, max_distance * max_distance, None)
+    }
+
+    /// The nearest surface point, starting from triangle `seed`: its
+    /// distance bounds the search, and it is the answer unless a triangle
+    /// lies strictly closer (so the distance is exactly
+    /// [`MeshDistance::distance`]'s).
+    fn closest_from(&self, p: Point3, seed: usize) -> Option<Closest> {
+        let [a, b, c] = self.mesh.triangle(seed);
+        let q = closest_point_on_triangle(p, a, b, c);
+        let d = (q - p).norm_squared();
+        if d.is_finite() {
+            self.search(p, d, Some((q, seed)))
+        } else {
+            self.closest(p)
+        }
+    }
+
+    /// Depth-first search for the nearest triangle closer than `√best_sq`
+    /// (else `best`), nearer child first; a node is entered only while its
+    /// box is closer than the best so far.
+    fn search(
+        &self,
+        p: Point3,
+        mut best_sq: Real,
+        mut best: Option<(Point3, usize)>,
+    ) -> Option<Closest> {
         if self.nodes.is_empty() {
             return None;
         }
-        let mut best_sq = max_distance * max_distance;
-        let mut best: Option<(Point3, usize)> = None;
-        let mut stack: Vec<u32> = Vec::with_capacity(64);
-        stack.push(0);
-        while let Some(ni) = stack.pop() {
-            let node = &self.nodes[ni as usize];
-            if box_distance_sq(&node.bounds, p) >= best_sq {
+        let mut stack: Vec<(u32, Real)> = Vec::with_capacity(64);
+        stack.push((0, box_distance_sq(&self.nodes[0].bounds, p)));
+        while let Some((ni, dn)) = stack.pop() {
+            if dn >= best_sq {
                 continue;
             }
+            let node = &self.nodes[ni as usize];
             if node.count > 0 {
                 let s = node.start as usize;
                 for &t in &self.order[s..s + node.count as usize] {
@@ -223,12 +272,16 @@ impl<'m> MeshDistance<'m> {
                 let dl = box_distance_sq(&self.nodes[l as usize].bounds, p);
                 let dr = box_distance_sq(&self.nodes[r as usize].bounds, p);
                 // Visit the nearer child first (pushed last).
-                if dl <= dr {
-                    stack.push(r);
-                    stack.push(l);
+                let (near, far) = if dl <= dr {
+                    ((l, dl), (r, dr))
                 } else {
-                    stack.push(l);
-                    stack.push(r);
+                    ((r, dr), (l, dl))
+                };
+                if far.1 < best_sq {
+                    stack.push(far);
+                }
+                if near.1 < best_sq {
+                    stack.push(near);
                 }
             }
         }
@@ -315,9 +368,136 @@ pub fn sample_surface(mesh: &Mesh, count: usize) -> Vec<Point3> {
     out
 }
 
-/// Distances of `points` to the surface of `target`, one per point.
+/// Distances of `points` to the surface of `target`, one per point (see
+/// [`MeshDistance::distances`]).
 pub fn distances_to(target: &MeshDistance, points: &[Point3]) -> Vec<Real> {
-    points.iter().map(|p| target.distance(*p)).collect()
+    target.distances(points)
+}
+
+/// `query(p, state)` for every point, the points visited in Morton order
+/// (sorted along a Z-order curve, so consecutive points are near each
+/// other; fewer than 4096 points keep their order) with a `state` per run (starting from `S::default()`) that a
+/// query leaves for the next: e.g. the previous point's nearest element, a
+/// first guess that bounds the next search. Runs are split over the cores
+/// ([`parallel_map`], at least 4096 points each); the answers come back in
+/// the order of `points`. With `query` exact whatever the state, the
+/// answers are exactly those of querying each point alone.
+pub fn coherent_map<S: Default>(
+    points: &[Point3],
+    query: impl Fn(Point3, &mut S) -> Real + Sync,
+) -> Vec<Real> {
+    // A few points (a curve's samples) keep their order: sorting would
+    // cost more than it saves.
+    let order: Vec<u32> = if points.len() < 4096 {
+        (0..points.len() as u32).collect()
+    } else {
+        morton_sort(points).0
+    };
+    let answers = parallel_map(&order, 4096, |run| {
+        let mut state = S::default();
+        run.iter()
+            .map(|&i| query(points[i as usize], &mut state))
+            .collect()
+    });
+    let mut out = vec![0.0; points.len()];
+    for (&i, d) in order.iter().zip(answers) {
+        out[i as usize] = d;
+    }
+    out
+}
+
+/// `f` over contiguous runs of `items`, one per available core (at most
+/// 8, and each run at least `min_run` items long), concatenated in order:
+/// the same result as `f(items)` when `f` maps each item on its own.
+pub fn parallel_map<T: Sync, R: Send>(
+    items: &[T],
+    min_run: usize,
+    f: impl Fn(&[T]) -> Vec<R> + Sync,
+) -> Vec<R> {
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let runs = cores.min(items.len() / min_run.max(1)).max(1);
+    if runs == 1 {
+        return f(items);
+    }
+    let size = items.len().div_ceil(runs);
+    std::thread::scope(|scope| {
+        let f = &f;
+        let handles: Vec<_> = items
+            .chunks(size)
+            .map(|run| scope.spawn(move || f(run)))
+            .collect();
+        let mut out = Vec::with_capacity(items.len());
+        for h in handles {
+            match h.join() {
+                Ok(part) => out.extend(part),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        out
+    })
+}
+
+/// The triangles' order along a Morton curve of their box centres and the
+/// codes in that order (see [`MeshDistance::new`]): 10 bits per axis of
+/// the centres' bounding box, interleaved; sorted by an LSD radix sort
+/// (stable: equal codes keep their index order).
+fn morton_order(bounds: &[Aabb]) -> (Vec<u32>, Vec<u32>) {
+    let centres: Vec<Point3> = bounds.iter().map(|b| b.center()).collect();
+    morton_sort(&centres)
+}
+
+/// The indices of `points` in Morton order, and their codes (see
+/// [`morton_order`]).
+pub(crate) fn morton_sort(centres: &[Point3]) -> (Vec<u32>, Vec<u32>) {
+    let finite = || centres.iter().filter(|c| c.is_finite());
+    let inf = Real::INFINITY;
+    let lo = finite().fold(Vec3::new(inf, inf, inf), |a, c| a.min(*c));
+    let hi = finite().fold(Vec3::new(-inf, -inf, -inf), |a, c| a.max(*c));
+    let scale = |l: Real, h: Real| if h > l { 1023.0 / (h - l) } else { 0.0 };
+    let s = Vec3::new(scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z));
+    // Spreads the 10 low bits of x to every third bit.
+    let spread = |x: u32| {
+        let mut x = x & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    let q = |v: Real, l: Real, s: Real| {
+        let x = (v - l) * s;
+        if x.is_finite() {
+            x.clamp(0.0, 1023.0) as u32
+        } else {
+            0
+        }
+    };
+    let mut keyed: Vec<(u32, u32)> = centres
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let code = (spread(q(c.x, lo.x, s.x)) << 2)
+                | (spread(q(c.y, lo.y, s.y)) << 1)
+                | spread(q(c.z, lo.z, s.z));
+            (code, i as u32)
+        })
+        .collect();
+    let mut scratch = vec![(0u32, 0u32); keyed.len()];
+    for shift in [0u32, 11, 22] {
+        let mut count = [0usize; 2049];
+        for k in &keyed {
+            count[((k.0 >> shift) & 0x7ff) as usize + 1] += 1;
+        }
+        for b in 0..2048 {
+            count[b + 1] += count[b];
+        }
+        for k in &keyed {
+            let b = ((k.0 >> shift) & 0x7ff) as usize;
+            scratch[count[b]] = *k;
+            count[b] += 1;
+        }
+        std::mem::swap(&mut keyed, &mut scratch);
+    }
+    keyed.into_iter().map(|(c, i)| (i, c)).unzip()
 }
 
 #[cfg(test)]
@@ -386,6 +566,22 @@ mod tests {
                 * (0.2 + (i % 7) as Real * 0.3);
             assert_near!(bvh.distance(p), brute(&m, p), 1e-14);
         }
+    }
+
+    #[test]
+    fn batched_distances_are_the_single_queries() {
+        let m = sphere(24);
+        let bvh = MeshDistance::new(&m);
+        // 10 000 points in no order, inside, on and outside the sphere.
+        let pts: Vec<Point3> = (0..10_000)
+            .map(|i| {
+                let t = i as Real * 0.618_033_988_749_895;
+                Vec3::new(t.sin(), (1.7 * t).cos(), (2.3 * t).sin()) * (0.2 + 1.6 * t.fract())
+            })
+            .collect();
+        let single: Vec<Real> = pts.iter().map(|p| bvh.distance(*p)).collect();
+        assert_eq!(bvh.distances(&pts), single);
+        assert!(bvh.distances(&[]).is_empty());
     }
 
     #[test]

@@ -216,19 +216,16 @@ impl<'c> CloudSlicer<'c> {
         let axis = axis
             .normalized()
             .ok_or(ScanSectionError::BadAxis(axis.to_array()))?;
-        // Sort by the IEEE total-order bits of the height (a monotone map
-        // to u64), ties by index: one fast unstable sort of plain integers.
-        let key = |h: Real| {
-            let b = h.to_bits() as i64;
-            (b ^ ((((b >> 63) as u64) >> 1) as i64)) as u64 ^ (1 << 63)
-        };
+        // Sorted by height, ties by index: a radix sort of plain integers
+        // (see [`height_key`], [`sort_keyed`]).
+        let key = height_key;
         let mut keyed: Vec<(u64, u32)> = cloud
             .positions
             .iter()
             .enumerate()
             .map(|(i, p)| (key(p.dot(axis)), i as u32))
             .collect();
-        keyed.sort_unstable();
+        sort_keyed(&mut keyed);
         let order: Vec<u32> = keyed.iter().map(|k| k.1).collect();
         let heights: Vec<Real> = order
             .iter()
@@ -274,7 +271,7 @@ impl<'c> CloudSlicer<'c> {
             return Err(ScanSectionError::NonFiniteOffset(offset));
         }
         let t = check_len("half_thickness", opts.half_thickness, self.spacing)?;
-        let mut g = check_len("cell_size", opts.cell_size, self.spacing)?;
+        let g = check_len("cell_size", opts.cell_size, self.spacing)?;
         let lo = self.heights.partition_point(|&h| h < offset - t);
         let hi = self.heights.partition_point(|&h| h <= offset + t);
         let (min, max) = self.range();
@@ -289,127 +286,192 @@ impl<'c> CloudSlicer<'c> {
                 max,
             });
         }
-        let (e1, e2) = plane_axes(self.axis, opts.reference);
-        let origin = self.axis * offset;
-        let ids = &self.order[lo..hi];
-        let normals = self.cloud.normals.as_ref().filter(|_| opts.use_normals);
-        let pts: Vec<Point2> = ids
-            .iter()
-            .map(|&i| {
-                let p = self.cloud.positions[i as usize];
-                let p = match normals {
-                    Some(ns) => onto_plane(p, ns[i as usize], self.axis, offset),
-                    None => p,
-                };
-                let d = p - origin;
-                Vec2::new(d.dot(e1), d.dot(e2))
-            })
-            .collect();
-        // Image bounds with a margin for the closing.
-        let (mut xmin, mut xmax, mut ymin, mut ymax) = (
-            Real::INFINITY,
-            Real::NEG_INFINITY,
-            Real::INFINITY,
-            Real::NEG_INFINITY,
-        );
-        for p in &pts {
-            xmin = xmin.min(p.x);
-            xmax = xmax.max(p.x);
-            ymin = ymin.min(p.y);
-            ymax = ymax.max(p.y);
-        }
-        let r = opts.closing_radius;
-        let margin = r + 2;
-        loop {
-            let w = ((xmax - xmin) / g).floor() as usize + 1 + 2 * margin;
-            let h = ((ymax - ymin) / g).floor() as usize + 1 + 2 * margin;
-            if w.saturating_mul(h) <= opts.max_cells.max(64) {
-                break;
-            }
-            g *= 1.5;
-        }
-        let grid = Grid::new(
-            Vec2::new(xmin - margin as Real * g, ymin - margin as Real * g),
+        let normals = self.cloud.normals.as_deref().filter(|_| opts.use_normals);
+        Ok(section_of_slab(
+            &self.cloud.positions,
+            normals,
+            self.axis,
+            offset,
+            &self.order[lo..hi],
+            t,
             g,
-            ((xmax - xmin) / g).floor() as usize + 1 + 2 * margin,
-            ((ymax - ymin) / g).floor() as usize + 1 + 2 * margin,
-        );
-        let cell_of: Vec<usize> = pts.iter().map(|&p| grid.cell(p)).collect();
-        let mut occupied = vec![false; grid.w * grid.h];
-        for &c in &cell_of {
-            occupied[c] = true;
-        }
-        let closed = grid.close(&occupied, r);
-        let (labels, ncomp) = grid.components(&closed);
-        // Points of each component.
-        let mut members: Vec<Vec<usize>> = vec![Vec::new(); ncomp];
-        for (k, &c) in cell_of.iter().enumerate() {
-            let l = labels[c];
-            if l != NONE {
-                members[l as usize].push(k);
-            }
-        }
-        let mut ordered: Vec<(Vec<usize>, bool, usize)> = Vec::new();
-        let mut arcs: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
-        for (comp, m) in members.iter().enumerate() {
-            if m.len() < opts.min_component_points.max(3) {
-                continue;
-            }
-            match order_component(&grid, &labels, comp as u32, m, &pts, &cell_of) {
-                Ordering::Done(Some((reps, closed))) => ordered.push((reps, closed, m.len())),
-                Ordering::Done(None) => {}
-                Ordering::Arc => {
-                    // one point per occupied cell stands for the arc while
-                    // deciding which arcs to join
-                    let mut sample: Vec<usize> = m.clone();
-                    sample.sort_unstable_by_key(|&k| (cell_of[k], k));
-                    sample.dedup_by_key(|k| cell_of[*k]);
-                    arcs.push((sample, m.clone()));
-                }
-            }
-        }
-        for group in merge_arcs(arcs, &pts) {
-            if let Some(reps) = order_by_angle(&grid, &group, &pts) {
-                ordered.push((reps, false, group.len()));
-            }
-        }
-        let mut loops = Vec::new();
-        for (mut reps, closed_ring, raw) in ordered {
-            untangle(&mut reps, &pts);
-            let planar: Vec<Point3> = reps
-                .iter()
-                .map(|&k| origin + e1 * pts[k].x + e2 * pts[k].y)
-                .collect();
-            let mut indices: Vec<usize> = reps.iter().map(|&k| ids[k] as usize).collect();
-            let max_gap = (0..planar.len())
-                .map(|i| planar[i].distance(planar[(i + 1) % planar.len()]))
-                .fold(0.0, Real::max);
-            let first = planar[0];
-            let Some(outline) = SectionLoop::from_points(planar, e1, e2) else {
-                continue;
-            };
-            if outline.points.first() != Some(&first) {
-                indices.reverse();
-            }
-            loops.push(ScanLoop {
-                outline,
-                scan_indices: indices,
-                raw_points: raw,
-                closed_ring,
-                max_gap,
-            });
-        }
-        Ok(ScanSection {
-            plane: Plane {
-                origin,
-                normal: self.axis,
-            },
-            loops,
-            slab_points: hi - lo,
-            half_thickness: t,
-            cell_size: g,
-        })
+            opts,
+        ))
     }
+}
+
+/// The section of the slab `ids` (the points of `positions` within the
+/// half-thickness `t` of the plane `{p : p·axis = offset}`, sorted by
+/// height, at least [`ScanSectionOptions::min_slab_points`] of them) with
+/// occupancy cells of size `g`: steps 3-5 of the module doc. `axis` is a
+/// unit vector; `normals`, when given, are the cloud's (see
+/// [`onto_plane`]). Shared by [`CloudSlicer::section_at`] and the body
+/// cutter (`segment::Cutter`), which finds its slabs without sorting the
+/// cloud for every plane.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn section_of_slab(
+    positions: &[Point3],
+    normals: Option<&[Vec3]>,
+    axis: Vec3,
+    offset: Real,
+    ids: &[u32],
+    t: Real,
+    mut g: Real,
+    opts: &ScanSectionOptions,
+) -> ScanSection {
+    let (e1, e2) = plane_axes(axis, opts.reference);
+    let origin = axis * offset;
+    let pts: Vec<Point2> = ids
+        .iter()
+        .map(|&i| {
+            let p = positions[i as usize];
+            let p = match normals {
+                Some(ns) => onto_plane(p, ns[i as usize], axis, offset),
+                None => p,
+            };
+            let d = p - origin;
+            Vec2::new(d.dot(e1), d.dot(e2))
+        })
+        .collect();
+    // Image bounds with a margin for the closing.
+    let (mut xmin, mut xmax, mut ymin, mut ymax) = (
+        Real::INFINITY,
+        Real::NEG_INFINITY,
+        Real::INFINITY,
+        Real::NEG_INFINITY,
+    );
+    for p in &pts {
+        xmin = xmin.min(p.x);
+        xmax = xmax.max(p.x);
+        ymin = ymin.min(p.y);
+        ymax = ymax.max(p.y);
+    }
+    let r = opts.closing_radius;
+    let margin = r + 2;
+    loop {
+        let w = ((xmax - xmin) / g).floor() as usize + 1 + 2 * margin;
+        let h = ((ymax - ymin) / g).floor() as usize + 1 + 2 * margin;
+        if w.saturating_mul(h) <= opts.max_cells.max(64) {
+            break;
+        }
+        g *= 1.5;
+    }
+    let grid = Grid::new(
+        Vec2::new(xmin - margin as Real * g, ymin - margin as Real * g),
+        g,
+        ((xmax - xmin) / g).floor() as usize + 1 + 2 * margin,
+        ((ymax - ymin) / g).floor() as usize + 1 + 2 * margin,
+    );
+    let cell_of: Vec<usize> = pts.iter().map(|&p| grid.cell(p)).collect();
+    let mut occupied = vec![false; grid.w * grid.h];
+    for &c in &cell_of {
+        occupied[c] = true;
+    }
+    let closed = grid.close(&occupied, r);
+    let (labels, ncomp) = grid.components(&closed);
+    // Points of each component.
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); ncomp];
+    for (k, &c) in cell_of.iter().enumerate() {
+        let l = labels[c];
+        if l != NONE {
+            members[l as usize].push(k);
+        }
+    }
+    let mut ordered: Vec<(Vec<usize>, bool, usize)> = Vec::new();
+    let mut arcs: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
+    for (comp, m) in members.iter().enumerate() {
+        if m.len() < opts.min_component_points.max(3) {
+            continue;
+        }
+        match order_component(&grid, &labels, comp as u32, m, &pts, &cell_of) {
+            Ordering::Done(Some((reps, closed))) => ordered.push((reps, closed, m.len())),
+            Ordering::Done(None) => {}
+            Ordering::Arc => {
+                // one point per occupied cell stands for the arc while
+                // deciding which arcs to join
+                let mut sample: Vec<usize> = m.clone();
+                sample.sort_unstable_by_key(|&k| (cell_of[k], k));
+                sample.dedup_by_key(|k| cell_of[*k]);
+                arcs.push((sample, m.clone()));
+            }
+        }
+    }
+    for group in merge_arcs(arcs, &pts) {
+        if let Some(reps) = order_by_angle(&grid, &group, &pts) {
+            ordered.push((reps, false, group.len()));
+        }
+    }
+    let mut loops = Vec::new();
+    for (mut reps, closed_ring, raw) in ordered {
+        untangle(&mut reps, &pts);
+        let planar: Vec<Point3> = reps
+            .iter()
+            .map(|&k| origin + e1 * pts[k].x + e2 * pts[k].y)
+            .collect();
+        let mut indices: Vec<usize> = reps.iter().map(|&k| ids[k] as usize).collect();
+        let max_gap = (0..planar.len())
+            .map(|i| planar[i].distance(planar[(i + 1) % planar.len()]))
+            .fold(0.0, Real::max);
+        let first = planar[0];
+        let Some(outline) = SectionLoop::from_points(planar, e1, e2) else {
+            continue;
+        };
+        if outline.points.first() != Some(&first) {
+            indices.reverse();
+        }
+        loops.push(ScanLoop {
+            outline,
+            scan_indices: indices,
+            raw_points: raw,
+            closed_ring,
+            max_gap,
+        });
+    }
+    ScanSection {
+        plane: Plane {
+            origin,
+            normal: axis,
+        },
+        loops,
+        slab_points: ids.len(),
+        half_thickness: t,
+        cell_size: g,
+    }
+}
+
+/// Sorts `(key, index)` pairs by key with a stable LSD radix sort (8-bit
+/// digits; a digit all keys share is skipped): pairs built in index order
+/// end up ordered by key, ties by index, exactly as `sort_unstable` on the
+/// pairs, in linear time (a few passes over 200 000 heights instead of a
+/// comparison sort).
+pub(crate) fn sort_keyed(keyed: &mut Vec<(u64, u32)>) {
+    let mut scratch = vec![(0u64, 0u32); keyed.len()];
+    for shift in (0..64).step_by(8) {
+        let mut count = [0usize; 257];
+        for k in keyed.iter() {
+            count[((k.0 >> shift) & 0xff) as usize + 1] += 1;
+        }
+        if count.contains(&keyed.len()) {
+            continue; // every key has this digit
+        }
+        for b in 0..256 {
+            count[b + 1] += count[b];
+        }
+        for k in keyed.iter() {
+            let b = ((k.0 >> shift) & 0xff) as usize;
+            scratch[count[b]] = *k;
+            count[b] += 1;
+        }
+        std::mem::swap(keyed, &mut scratch);
+    }
+}
+
+/// The IEEE total-order bits of a height: a monotone map to `u64`, so
+/// `(height_key(h), index)` pairs sort by height, ties by index, as plain
+/// integers.
+pub(crate) fn height_key(h: Real) -> u64 {
+    let b = h.to_bits() as i64;
+    (b ^ ((((b >> 63) as u64) >> 1) as i64)) as u64 ^ (1 << 63)
 }
 
 /// Moves `p` (height `h = p·a − c` above the plane `{x : x·a = c}`) within
@@ -1186,6 +1248,22 @@ fn representatives(mut keys: Vec<(u32, usize)>, pts: &[Point2], cell: Real) -> V
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn radix_sort_is_the_pair_sort() {
+        let mut rng = crate::scanner::Rng::new(3);
+        let mut keyed: Vec<(u64, u32)> = (0..5000)
+            .map(|i| {
+                // Heights with repeats and both signs.
+                let h = ((rng.uniform() - 0.5) * 40.0).round() * 0.05;
+                (height_key(h), i)
+            })
+            .collect();
+        let mut expected = keyed.clone();
+        expected.sort_unstable();
+        sort_keyed(&mut keyed);
+        assert_eq!(keyed, expected);
+    }
     use crate::assert_near;
     use crate::scanner::Rng;
     use std::f64::consts::{PI, TAU};

@@ -136,12 +136,15 @@
 use crate::linalg::symmetric_eigen3;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::mesh::{Mesh, MeshError, PointCloud};
-use crate::scan_section::{CloudSlicer, ScanSectionError, ScanSectionOptions};
+use crate::scan_section::{
+    height_key, section_of_slab, sort_keyed, CloudSlicer, ScanSectionError, ScanSectionOptions,
+};
 use crate::section::{
     point_in_polygon, polygon_area_centroid, section_mesh, MeshSlicer, Plane, SectionError,
     SectionLoop, SectionOptions,
 };
 use std::fmt;
+use std::sync::OnceLock;
 use thiserror::Error;
 
 /// The geometry to segment: a surface or a cloud of scanned points.
@@ -1175,12 +1178,16 @@ pub fn segment(
             });
         }
         let step = (max - min) / n as Real;
-        raw = (0..n)
-            .map(|k| {
-                let off = min + (k as Real + 0.5) * step;
-                (off, slicer.nodes_at(off, e1, e2))
-            })
-            .collect();
+        // Independent slices, split over the cores (in order).
+        let ks: Vec<usize> = (0..n).collect();
+        raw = crate::distance::parallel_map(&ks, 32, |run| {
+            run.iter()
+                .map(|&k| {
+                    let off = min + (k as Real + 0.5) * step;
+                    (off, slicer.nodes_at(off, e1, e2))
+                })
+                .collect()
+        });
         let largest = raw
             .iter()
             .flat_map(|(_, l)| l.iter().map(|l| l.area))
@@ -2164,103 +2171,33 @@ fn smooth_axis(pts: &[(Point3, Real)], w: Real, step: Real) -> (Vec<Point3>, Vec
 // Cuts perpendicular to a part's axis.
 
 /// The geometry near a point (within `radius`), to cut without sorting the
-/// whole input for every plane. Returns the local geometry and, for clouds,
-/// the original index of each kept point.
+/// whole input for every plane.
 enum Local {
     Mesh(Mesh),
-    Cloud(PointCloud, Vec<usize>),
+    Cloud(PointCloud),
 }
 
 fn local_geometry(body: BodyGeometry<'_>, centre: Point3, radius: Real) -> Local {
     let r2 = radius * radius;
     match body {
-        BodyGeometry::Mesh(m) => {
-            let triangles = m
-                .triangles
+        BodyGeometry::Mesh(m) => Local::Mesh(local_mesh(m, centre, radius)),
+        BodyGeometry::Cloud(c) => Local::Cloud(PointCloud {
+            positions: c
+                .positions
                 .iter()
                 .copied()
-                .filter(|t| {
-                    t.iter().any(|&v| {
-                        m.positions
-                            .get(v as usize)
-                            .is_some_and(|p| (*p - centre).norm_squared() <= r2)
-                    })
-                })
-                .collect();
-            Local::Mesh(Mesh {
-                positions: m.positions.clone(),
-                normals: None,
-                triangles,
-            })
-        }
-        BodyGeometry::Cloud(c) => {
-            let mut idx = Vec::new();
-            let mut pos = Vec::new();
-            for (i, p) in c.positions.iter().enumerate() {
-                if (*p - centre).norm_squared() <= r2 {
-                    idx.push(i);
-                    pos.push(*p);
-                }
-            }
-            Local::Cloud(
-                PointCloud {
-                    positions: pos,
-                    normals: None,
-                },
-                idx,
-            )
-        }
-    }
-}
-
-/// All loops of the local geometry in `plane`, with cloud indices.
-fn local_loops(
-    local: &Local,
-    plane: &Plane,
-    opts: &SegmentOptions,
-    spacing: Option<Real>,
-) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
-    match local {
-        Local::Mesh(m) => {
-            if m.triangles.is_empty() {
-                return Vec::new();
-            }
-            section_mesh(m, plane, &opts.section)
-                .map(|s| s.loops.into_iter().map(|l| (l, None)).collect())
-                .unwrap_or_default()
-        }
-        Local::Cloud(c, idx) => {
-            if c.positions.len() < 3 {
-                return Vec::new();
-            }
-            let Ok(slicer) = CloudSlicer::new(c, plane.normal) else {
-                return Vec::new();
-            };
-            let so = ScanSectionOptions {
-                half_thickness: opts.scan.half_thickness.or(spacing),
-                cell_size: opts.scan.cell_size.or(spacing),
-                ..opts.scan
-            };
-            slicer
-                .section_at(plane.offset(), &so)
-                .map(|s| {
-                    s.loops
-                        .into_iter()
-                        .map(|l| {
-                            let ids = l.scan_indices.iter().map(|&k| idx[k]).collect();
-                            (l.outline, Some(ids))
-                        })
-                        .collect()
-                })
-                .unwrap_or_default()
-        }
+                .filter(|p| (*p - centre).norm_squared() <= r2)
+                .collect(),
+            normals: None,
+        }),
     }
 }
 
 /// Cuts `part` with the plane perpendicular to its axis at arc-length
 /// fraction `at ∈ [0, 1]` (0 the proximal end) and returns the part's loop:
 /// the innermost loop around the axis point, else the nearest one.
-/// `body` must be the geometry `seg` came from.
+/// `body` must be the geometry `seg` came from. For many cuts of one body
+/// use a [`Cutter`].
 pub fn cut_part(
     body: BodyGeometry<'_>,
     seg: &Segmentation,
@@ -2277,7 +2214,7 @@ pub fn cut_part(
 /// `outermost`, the *largest* loop around the axis point is taken instead
 /// of the innermost: the skin rather than a cavity inside it (a cut through
 /// the mouth of a mesh that models the mouth's inside has the throat's loop
-/// nested in the head's).
+/// nested in the head's). For many cuts of one body use a [`Cutter`].
 pub fn cut_part_along(
     body: BodyGeometry<'_>,
     seg: &Segmentation,
@@ -2287,42 +2224,538 @@ pub fn cut_part_along(
     outermost: bool,
     opts: &SegmentOptions,
 ) -> Result<PartCut, SegmentError> {
-    let axis = seg.part(part).ok_or(SegmentError::NoSuchPart(part))?;
-    let (p, t) = axis
-        .point_and_tangent(at)
-        .ok_or(SegmentError::EmptyCut { part, at })?;
-    let n = match normal {
-        // Keep the normal pointing along the axis (method.md §2).
-        Some(n) if n.dot(t) < 0.0 => -n,
-        Some(n) => n,
-        None => t,
-    };
-    let plane = Plane::new(p, n)?;
-    let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
-    let local = local_geometry(body, p, radius);
-    let loops = local_loops(&local, &plane, opts, seg.point_spacing);
-    let outlines: Vec<SectionLoop> = loops.iter().map(|l| l.0.clone()).collect();
-    let enclosing = outlines
-        .iter()
-        .enumerate()
-        .filter(|(_, l)| l.contains(p))
-        .max_by(|a, b| a.1.area.total_cmp(&b.1.area))
-        .map(|(i, _)| i);
-    let k = match enclosing {
-        Some(k) if outermost => k,
-        _ => {
-            crate::section::select_loop(&outlines, p).ok_or(SegmentError::EmptyCut { part, at })?
+    Cutter {
+        reuse: false,
+        ..Cutter::new(body, seg)
+    }
+    .cut(part, at, normal, outermost, opts)
+}
+
+/// Many cuts of one body ([`cut_part_along`] for each), with what every
+/// plane needs built once, lazily, and shared by all cuts:
+///
+/// * **Horizontal cuts** (normal `±up`, the frame's up axis) of a mesh use
+///   one [`MeshSlicer`] of the whole mesh per direction (triangles sorted
+///   by their lowest height once; a plane visits only the triangles
+///   spanning it). Of a cloud, one index of the points sorted by height
+///   along `up`: a slab `|p·n − c| ≤ t` is a contiguous run found by binary
+///   search.
+/// * **Other normals** (the arms' own axes): a mesh is cut through the
+///   triangles with a vertex in the ball of radius `ρ` around the axis
+///   point; a cloud's slab is the points of that ball found through a
+///   uniform grid of cells `0.02 H`, tested exactly.
+///
+/// A cloud's slab is then the points within `ρ = 3 max(r_max, 0.02 H)` of
+/// the axis point (`r_max` the part's largest radius) and within the slab,
+/// sorted by height (ties by index), sectioned as
+/// [`CloudSlicer::section_at`] does: the same loops as cutting the ball's
+/// points alone, without sorting a ball of up to the whole cloud for every
+/// plane. A horizontal mesh section uses the whole plane's loops (a loop
+/// crossing the ball's boundary is no longer cut open there); the loop
+/// chosen (largest or innermost around the axis point, else the nearest)
+/// is the same wherever the ball held that loop whole.
+#[derive(Debug)]
+pub struct Cutter<'a> {
+    body: BodyGeometry<'a>,
+    seg: &'a Segmentation,
+    /// False for one cut ([`cut_part_along`]): the ball's geometry is
+    /// gathered directly (one pass over the input) instead of building
+    /// shared slicers and grids first.
+    reuse: bool,
+    /// Mesh slicers along `up` and `−up` (`None`: the mesh is invalid).
+    mesh_slicers: [OnceLock<Option<MeshSlicer<'a>>>; 2],
+    /// Cloud indices sorted by height along `up`, and those heights.
+    sorted: OnceLock<(Vec<u32>, Vec<Real>)>,
+    grid: OnceLock<BallGrid>,
+    /// Meshes: a grid of the vertices, each vertex's triangles (CSR: the
+    /// triangles of vertex `v` are `tris[start[v]..start[v + 1]]`) and the
+    /// mesh's bounding box corners.
+    #[allow(clippy::type_complexity)]
+    mesh_grid: OnceLock<(BallGrid, Vec<u32>, Vec<u32>, [Point3; 2])>,
+    /// The cloud's point spacing: the segmentation's, else estimated once.
+    spacing: OnceLock<Option<Real>>,
+}
+
+impl<'a> Cutter<'a> {
+    /// A cutter for `body`, which must be the geometry `seg` came from.
+    /// Nothing is built before the first cut.
+    pub fn new(body: BodyGeometry<'a>, seg: &'a Segmentation) -> Cutter<'a> {
+        Cutter {
+            body,
+            seg,
+            reuse: true,
+            mesh_slicers: [OnceLock::new(), OnceLock::new()],
+            sorted: OnceLock::new(),
+            grid: OnceLock::new(),
+            mesh_grid: OnceLock::new(),
+            spacing: OnceLock::new(),
         }
-    };
-    let (outline, scan_indices) = loops
-        .into_iter()
-        .nth(k)
-        .ok_or(SegmentError::EmptyCut { part, at })?;
-    Ok(PartCut {
-        plane,
-        outline,
-        scan_indices,
-    })
+    }
+
+    /// The geometry cut.
+    pub fn body(&self) -> BodyGeometry<'a> {
+        self.body
+    }
+
+    /// The segmentation whose axes place the cuts.
+    pub fn segmentation(&self) -> &'a Segmentation {
+        self.seg
+    }
+
+    /// [`cut_part_along`]: the cut of `part` at `at` with the plane normal
+    /// `normal` (`None`: the axis tangent), the largest loop around the axis
+    /// point when `outermost`.
+    pub fn cut(
+        &self,
+        part: PartName,
+        at: Real,
+        normal: Option<Vec3>,
+        outermost: bool,
+        opts: &SegmentOptions,
+    ) -> Result<PartCut, SegmentError> {
+        let seg = self.seg;
+        let axis = seg.part(part).ok_or(SegmentError::NoSuchPart(part))?;
+        let (p, t) = axis
+            .point_and_tangent(at)
+            .ok_or(SegmentError::EmptyCut { part, at })?;
+        let n = match normal {
+            // Keep the normal pointing along the axis (method.md §2).
+            Some(n) if n.dot(t) < 0.0 => -n,
+            Some(n) => n,
+            None => t,
+        };
+        let plane = Plane::new(p, n)?;
+        let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
+        let loops = self.loops(&plane, p, radius, opts);
+        let outlines: Vec<SectionLoop> = loops.iter().map(|l| l.0.clone()).collect();
+        let enclosing = outlines
+            .iter()
+            .enumerate()
+            .filter(|(_, l)| l.contains(p))
+            .max_by(|a, b| a.1.area.total_cmp(&b.1.area))
+            .map(|(i, _)| i);
+        let k = match enclosing {
+            Some(k) if outermost => k,
+            _ => crate::section::select_loop(&outlines, p)
+                .ok_or(SegmentError::EmptyCut { part, at })?,
+        };
+        let (outline, scan_indices) = loops
+            .into_iter()
+            .nth(k)
+            .ok_or(SegmentError::EmptyCut { part, at })?;
+        Ok(PartCut {
+            plane,
+            outline,
+            scan_indices,
+        })
+    }
+
+    /// `0` for `n = up`, `1` for `n = −up`, else `None`.
+    fn vertical(&self, n: Vec3) -> Option<usize> {
+        let up = self.seg.frame.up;
+        if n == up {
+            Some(0)
+        } else if n == -up {
+            Some(1)
+        } else {
+            None
+        }
+    }
+
+    /// All loops in `plane` of the geometry near `centre` (see the type's
+    /// doc), with cloud indices.
+    fn loops(
+        &self,
+        plane: &Plane,
+        centre: Point3,
+        radius: Real,
+        opts: &SegmentOptions,
+    ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
+        match self.body {
+            BodyGeometry::Mesh(m) => {
+                let shared = self.vertical(plane.normal).filter(|_| self.reuse);
+                let section = match shared {
+                    Some(k) => {
+                        let slicer = self.mesh_slicers[k]
+                            .get_or_init(|| MeshSlicer::new(m, plane.normal, &opts.section).ok());
+                        slicer.as_ref().and_then(|s| {
+                            let mut s = s.section_at(plane.offset()).ok()?;
+                            s.plane = *plane;
+                            Some(s)
+                        })
+                    }
+                    None => {
+                        let local = if self.reuse {
+                            self.ball_mesh(m, centre, radius)
+                        } else {
+                            local_mesh(m, centre, radius)
+                        };
+                        if local.triangles.is_empty() {
+                            None
+                        } else {
+                            section_mesh(&local, plane, &opts.section).ok()
+                        }
+                    }
+                };
+                section
+                    .map(|s| s.loops.into_iter().map(|l| (l, None)).collect())
+                    .unwrap_or_default()
+            }
+            BodyGeometry::Cloud(c) => self.cloud_loops(c, plane, centre, radius, opts),
+        }
+    }
+
+    /// The triangles of `m` with a vertex within `radius` of `centre`, in
+    /// their order, on their vertices only (renumbered in order) plus the
+    /// two corners of the whole mesh's bounding box: the same section as
+    /// [`local_mesh`] (whose tolerances follow the bounding box's
+    /// diagonal), from a grid of the vertices and their triangle lists.
+    fn ball_mesh(&self, m: &Mesh, centre: Point3, radius: Real) -> Mesh {
+        let (grid, tri_start, tris, corners) = self.mesh_grid.get_or_init(|| {
+            let mut start = vec![0u32; m.positions.len() + 1];
+            for t in &m.triangles {
+                for &v in t {
+                    if let Some(c) = start.get_mut(v as usize + 1) {
+                        *c += 1;
+                    }
+                }
+            }
+            for i in 1..start.len() {
+                start[i] += start[i - 1];
+            }
+            let mut fill = start.clone();
+            let mut tris = vec![0u32; *start.last().unwrap_or(&0) as usize];
+            for (k, t) in m.triangles.iter().enumerate() {
+                for &v in t {
+                    if let Some(f) = fill.get_mut(v as usize) {
+                        tris[*f as usize] = k as u32;
+                        *f += 1;
+                    }
+                }
+            }
+            let corners = m
+                .bounds()
+                .map_or([Vec3::ZERO, Vec3::ZERO], |b| [b.min, b.max]);
+            let grid = BallGrid::new(&m.positions, 0.02 * self.seg.height);
+            (grid, start, tris, corners)
+        });
+        let r2 = radius * radius;
+        // Bit sets over triangles and vertices: picked in any order, read
+        // back in ascending order.
+        let mut tri_bits = vec![0u64; m.triangles.len().div_ceil(64)];
+        grid.for_each_within(centre, radius, None, &mut |v| {
+            if (m.positions[v as usize] - centre).norm_squared() <= r2 {
+                let (a, b) = (tri_start[v as usize], tri_start[v as usize + 1]);
+                for &t in &tris[a as usize..b as usize] {
+                    tri_bits[t as usize / 64] |= 1 << (t % 64);
+                }
+            }
+        });
+        let ones = |bits: &[u64]| -> Vec<u32> {
+            let mut out = Vec::new();
+            for (w, &word) in bits.iter().enumerate() {
+                let mut x = word;
+                while x != 0 {
+                    out.push((w * 64) as u32 + x.trailing_zeros());
+                    x &= x - 1;
+                }
+            }
+            out
+        };
+        // (A triangle naming a vertex the mesh lacks is left out: the mesh
+        // should have been validated by the segmentation.)
+        let count = m.positions.len();
+        let picked: Vec<u32> = ones(&tri_bits)
+            .into_iter()
+            .filter(|&t| {
+                m.triangles[t as usize]
+                    .iter()
+                    .all(|&v| (v as usize) < count)
+            })
+            .collect();
+        let mut vert_bits = vec![0u64; m.positions.len().div_ceil(64)];
+        for &t in &picked {
+            for v in m.triangles[t as usize] {
+                vert_bits[v as usize / 64] |= 1 << (v % 64);
+            }
+        }
+        let vertices = ones(&vert_bits);
+        let mut index = vec![0u32; m.positions.len()];
+        for (k, &v) in vertices.iter().enumerate() {
+            index[v as usize] = k as u32;
+        }
+        let triangles = picked
+            .iter()
+            .map(|&t| m.triangles[t as usize].map(|v| index[v as usize]))
+            .collect();
+        let mut positions: Vec<Point3> =
+            vertices.iter().map(|&v| m.positions[v as usize]).collect();
+        positions.extend_from_slice(corners);
+        Mesh {
+            positions,
+            normals: None,
+            triangles,
+        }
+    }
+
+    fn cloud_loops(
+        &self,
+        c: &PointCloud,
+        plane: &Plane,
+        centre: Point3,
+        radius: Real,
+        opts: &SegmentOptions,
+    ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
+        let Some(axis) = plane.normal.normalized() else {
+            return Vec::new();
+        };
+        let spacing = *self.spacing.get_or_init(|| {
+            self.seg.point_spacing.or_else(|| {
+                CloudSlicer::new(c, self.seg.frame.up)
+                    .ok()
+                    .map(|s| s.spacing())
+            })
+        });
+        let Some(spacing) = spacing else {
+            return Vec::new();
+        };
+        let so = ScanSectionOptions {
+            half_thickness: opts.scan.half_thickness.or(Some(spacing)),
+            cell_size: opts.scan.cell_size.or(Some(spacing)),
+            ..opts.scan
+        };
+        let (Some(t), Some(g)) = (so.half_thickness, so.cell_size) else {
+            return Vec::new();
+        };
+        let offset = plane.offset();
+        if !(t.is_finite() && t > 0.0 && g.is_finite() && g > 0.0 && offset.is_finite()) {
+            return Vec::new();
+        }
+        let r2 = radius * radius;
+        let pos = &c.positions;
+        // The slab of the ball, exactly as a slicer of the ball's points
+        // would find it: heights `p·axis` in [offset − t, offset + t].
+        let mut slab: Vec<(u64, u32)> = Vec::new();
+        let mut keep = |i: u32| {
+            let p = pos[i as usize];
+            if (p - centre).norm_squared() <= r2 {
+                let h = p.dot(axis);
+                if h >= offset - t && h <= offset + t {
+                    slab.push((height_key(h), i));
+                }
+            }
+        };
+        match self.vertical(plane.normal) {
+            _ if !self.reuse => (0..pos.len() as u32).for_each(&mut keep),
+            Some(_) => {
+                let up = self.seg.frame.up;
+                let (order, heights) = self.sorted.get_or_init(|| {
+                    let mut keyed: Vec<(u64, u32)> = pos
+                        .iter()
+                        .enumerate()
+                        .map(|(i, p)| (height_key(p.dot(up)), i as u32))
+                        .collect();
+                    sort_keyed(&mut keyed);
+                    let order: Vec<u32> = keyed.iter().map(|k| k.1).collect();
+                    let heights = order.iter().map(|&i| pos[i as usize].dot(up)).collect();
+                    (order, heights)
+                });
+                // The same slab along `up` (heights along `−up` are the
+                // exact negations), widened by a rounding margin; the exact
+                // test above decides.
+                let c_up = offset * plane.normal.dot(up).signum();
+                let pad = 1e-9 * (c_up.abs() + t);
+                let lo = heights.partition_point(|&h| h < c_up - t - pad);
+                let hi = heights.partition_point(|&h| h <= c_up + t + pad);
+                for &i in &order[lo..hi] {
+                    keep(i);
+                }
+            }
+            None => {
+                let grid = self
+                    .grid
+                    .get_or_init(|| BallGrid::new(pos, 0.02 * self.seg.height));
+                grid.for_each_within(centre, radius, Some((axis, offset, t)), &mut keep);
+            }
+        }
+        let needed = so.min_slab_points.max(3);
+        if slab.len() < needed {
+            return Vec::new();
+        }
+        slab.sort_unstable();
+        let ids: Vec<u32> = slab.iter().map(|k| k.1).collect();
+        // The local cloud of a ball had no normals.
+        let section = section_of_slab(pos, None, axis, offset, &ids, t, g, &so);
+        section
+            .loops
+            .into_iter()
+            .map(|l| (l.outline, Some(l.scan_indices)))
+            .collect()
+    }
+}
+
+/// A uniform grid of a cloud's points for ball queries: cells of side
+/// `cell` (grown so there are at most ~2M cells), points bucketed by cell.
+#[derive(Debug)]
+struct BallGrid {
+    origin: Point3,
+    cell: Real,
+    dims: [usize; 3],
+    /// Cell `k` holds `order[starts[k]..starts[k + 1]]`.
+    starts: Vec<u32>,
+    order: Vec<u32>,
+}
+
+impl BallGrid {
+    fn new(points: &[Point3], cell: Real) -> BallGrid {
+        let fin = || points.iter().filter(|p| p.is_finite());
+        let lo = fin().fold(
+            Vec3::new(Real::INFINITY, Real::INFINITY, Real::INFINITY),
+            |a, p| a.min(*p),
+        );
+        let hi = fin().fold(
+            Vec3::new(Real::NEG_INFINITY, Real::NEG_INFINITY, Real::NEG_INFINITY),
+            |a, p| a.max(*p),
+        );
+        let (lo, hi) = if lo.x <= hi.x {
+            (lo, hi)
+        } else {
+            (Vec3::ZERO, Vec3::ZERO)
+        };
+        let ext = hi - lo;
+        let mut cell = if cell.is_finite() && cell > 0.0 {
+            cell
+        } else {
+            1.0
+        };
+        let vol = (ext.x / cell + 1.0) * (ext.y / cell + 1.0) * (ext.z / cell + 1.0);
+        if vol > 2.0e6 {
+            cell *= (vol / 2.0e6).cbrt();
+        }
+        let dims = [
+            (ext.x / cell) as usize + 1,
+            (ext.y / cell) as usize + 1,
+            (ext.z / cell) as usize + 1,
+        ];
+        let mut grid = BallGrid {
+            origin: lo,
+            cell,
+            dims,
+            starts: vec![0; dims[0] * dims[1] * dims[2] + 1],
+            order: Vec::new(),
+        };
+        let keys: Vec<Option<usize>> = points
+            .iter()
+            .map(|p| p.is_finite().then(|| grid.key(grid.coords(*p))))
+            .collect();
+        for k in keys.iter().flatten() {
+            grid.starts[k + 1] += 1;
+        }
+        for i in 1..grid.starts.len() {
+            grid.starts[i] += grid.starts[i - 1];
+        }
+        let mut fill = grid.starts.clone();
+        grid.order = vec![0; *grid.starts.last().unwrap_or(&0) as usize];
+        for (i, k) in keys.iter().enumerate() {
+            if let Some(k) = *k {
+                grid.order[fill[k] as usize] = i as u32;
+                fill[k] += 1;
+            }
+        }
+        grid
+    }
+
+    /// Integer cell coordinates, clamped to the grid.
+    fn coords(&self, p: Point3) -> [usize; 3] {
+        let d = (p - self.origin) / self.cell;
+        let cl = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+        [
+            cl(d.x, self.dims[0]),
+            cl(d.y, self.dims[1]),
+            cl(d.z, self.dims[2]),
+        ]
+    }
+
+    fn key(&self, c: [usize; 3]) -> usize {
+        (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
+    }
+
+    /// Calls `f` with every point in a cell that meets the ball and, when
+    /// `slab = Some((n, c, t))` (`n` a unit vector), the slab
+    /// `|p·n − c| ≤ t`: a superset of the points in both (the caller tests
+    /// them exactly). A cell is skipped when its box lies beyond `radius`
+    /// from `centre`, or when its centre's height `h` along `n` has
+    /// `|h − c| > t + (g/2)(|n_x| + |n_y| + |n_z|)` (how far the box of side
+    /// `g` reaches along `n`), each with a small margin.
+    fn for_each_within(
+        &self,
+        centre: Point3,
+        radius: Real,
+        slab: Option<(Vec3, Real, Real)>,
+        f: &mut impl FnMut(u32),
+    ) {
+        if !(centre.is_finite() && radius.is_finite()) {
+            return;
+        }
+        let r = Vec3::new(radius, radius, radius);
+        let (a, b) = (self.coords(centre - r), self.coords(centre + r));
+        let g = self.cell;
+        let margin = 1e-9 * (radius + g);
+        let reach2 = (radius + margin) * (radius + margin);
+        for z in a[2]..=b[2] {
+            for y in a[1]..=b[1] {
+                let row = self.key([0, y, z]);
+                for x in a[0]..=b[0] {
+                    let lo = self.origin + Vec3::new(x as Real, y as Real, z as Real) * g;
+                    let hi = lo + Vec3::new(g, g, g);
+                    let d = Vec3::new(
+                        (lo.x - centre.x).max(0.0).max(centre.x - hi.x),
+                        (lo.y - centre.y).max(0.0).max(centre.y - hi.y),
+                        (lo.z - centre.z).max(0.0).max(centre.z - hi.z),
+                    );
+                    if d.norm_squared() > reach2 {
+                        continue;
+                    }
+                    if let Some((n, c, t)) = slab {
+                        let h = ((lo + hi) * 0.5).dot(n);
+                        let half = 0.5 * g * (n.x.abs() + n.y.abs() + n.z.abs());
+                        if (h - c).abs() > t + half + margin {
+                            continue;
+                        }
+                    }
+                    let k = row + x;
+                    let (s, e) = (self.starts[k], self.starts[k + 1]);
+                    for &i in &self.order[s as usize..e as usize] {
+                        f(i);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The triangles of `m` with a vertex within `radius` of `centre` (all
+/// positions kept, so the bounds and thus the section's tolerances are the
+/// whole mesh's).
+fn local_mesh(m: &Mesh, centre: Point3, radius: Real) -> Mesh {
+    let r2 = radius * radius;
+    let triangles = m
+        .triangles
+        .iter()
+        .copied()
+        .filter(|t| {
+            t.iter().any(|&v| {
+                m.positions
+                    .get(v as usize)
+                    .is_some_and(|p| (*p - centre).norm_squared() <= r2)
+            })
+        })
+        .collect();
+    Mesh {
+        positions: m.positions.clone(),
+        normals: None,
+        triangles,
+    }
 }
 
 /// An arm found in slices across the body.
@@ -2478,7 +2911,7 @@ fn axis_slicer<'a>(
 ) -> Option<AxisSlicer<'a>> {
     Some(match local {
         Local::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
-        Local::Cloud(c, _) => {
+        Local::Cloud(c) => {
             let spacing = spacing?;
             let graph = ScanSectionOptions {
                 cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
@@ -2782,6 +3215,116 @@ mod tests {
             .warnings
             .iter()
             .any(|w| w.starts_with("right arm not found")));
+    }
+
+    /// The cut the way it was made before the [`Cutter`]: the geometry in
+    /// the ball around the axis point, sliced on its own.
+    fn ball_cut(
+        body: BodyGeometry<'_>,
+        seg: &Segmentation,
+        part: PartName,
+        at: Real,
+        normal: Option<Vec3>,
+    ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
+        let axis = seg.part(part).unwrap();
+        let (p, t) = axis.point_and_tangent(at).unwrap();
+        let n = match normal {
+            Some(n) if n.dot(t) < 0.0 => -n,
+            Some(n) => n,
+            None => t,
+        };
+        let plane = Plane::new(p, n).unwrap();
+        let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
+        let r2 = radius * radius;
+        match body {
+            BodyGeometry::Mesh(m) => {
+                section_mesh(&local_mesh(m, p, radius), &plane, &Default::default())
+                    .map(|s| s.loops.into_iter().map(|l| (l, None)).collect())
+                    .unwrap_or_default()
+            }
+            BodyGeometry::Cloud(c) => {
+                let idx: Vec<usize> = (0..c.positions.len())
+                    .filter(|&i| (c.positions[i] - p).norm_squared() <= r2)
+                    .collect();
+                let local = PointCloud {
+                    positions: idx.iter().map(|&i| c.positions[i]).collect(),
+                    normals: None,
+                };
+                let so = ScanSectionOptions {
+                    half_thickness: seg.point_spacing,
+                    cell_size: seg.point_spacing,
+                    ..Default::default()
+                };
+                CloudSlicer::new(&local, plane.normal)
+                    .unwrap()
+                    .section_at(plane.offset(), &so)
+                    .map(|s| {
+                        s.loops
+                            .into_iter()
+                            .map(|l| {
+                                let ids = l.scan_indices.iter().map(|&k| idx[k]).collect();
+                                (l.outline, Some(ids))
+                            })
+                            .collect()
+                    })
+                    .unwrap_or_default()
+            }
+        }
+    }
+
+    #[test]
+    fn cutter_gives_the_ball_cuts() {
+        let mesh = shapes::stick_body(2);
+        let scan = crate::scanner::virtual_scan(
+            &mesh,
+            &crate::scanner::ScannerOptions {
+                points: 60_000,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .cloud;
+        let opts = SegmentOptions::default();
+        for body in [BodyGeometry::Mesh(&mesh), BodyGeometry::Cloud(&scan)] {
+            let seg = segment(body, &opts).unwrap();
+            let cutter = Cutter::new(body, &seg);
+            let up = seg.frame.up;
+            let mut compared = 0;
+            for part in [PartName::Torso, PartName::Head, PartName::LeftLeg] {
+                for k in 1..10 {
+                    let at = k as Real / 10.0;
+                    // Horizontal (shared slicers) and along the axis (ball grids).
+                    for normal in [Some(up), None] {
+                        let Ok(cut) = cutter.cut(part, at, normal, true, &opts) else {
+                            continue;
+                        };
+                        let reference = ball_cut(body, &seg, part, at, normal);
+                        // One cut on its own is the ball's cut exactly.
+                        let once =
+                            cut_part_along(body, &seg, part, at, normal, true, &opts).unwrap();
+                        assert!(reference
+                            .iter()
+                            .any(|(l, ids)| l.points == once.outline.points
+                                && *ids == once.scan_indices));
+                        let same = reference.iter().any(|(l, ids)| {
+                            if matches!(body, BodyGeometry::Cloud(_)) || normal.is_none() {
+                                // Exactly the same points.
+                                l.points == cut.outline.points && *ids == cut.scan_indices
+                            } else {
+                                // The whole mesh's loop: the same polygon, maybe
+                                // starting elsewhere.
+                                l.points.len() == cut.outline.points.len()
+                                    && (l.area - cut.outline.area).abs() <= 1e-12 * l.area
+                                    && l.points.iter().all(|p| cut.outline.points.contains(p))
+                            }
+                        });
+                        assert!(same, "{part} at {at} normal {normal:?}");
+                        compared += 1;
+                    }
+                }
+            }
+            assert!(compared >= 40, "{compared}");
+        }
     }
 
     #[test]

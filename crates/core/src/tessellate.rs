@@ -242,17 +242,22 @@ enum Row {
     Apex(u32),
 }
 
-/// An estimate of the longest `u`-line of a patch (for target edge lengths).
-fn u_length(patch: &Patch) -> Real {
-    (0..8)
+/// An estimate of the longest `u`-line of a patch (for target edge
+/// lengths): the polyline through 17 points `u = i/16` along each of the
+/// 8 lines `v = 2πk/8`, the longest of the 8. `table` holds those 8 angles
+/// (evaluated through [`PatchSamples`], as the rows are: a tenth of the
+/// time of evaluating the patch point by point).
+fn u_length(patch: &Patch, table: &TrigTable) -> Real {
+    let samples = PatchSamples::new(patch, table);
+    let n = table.around;
+    let (mut pos, mut nrm) = (Vec::with_capacity(17 * n), Vec::with_capacity(17 * n));
+    for i in 0..=16 {
+        samples.row(i as Real / 16.0, 1.0, &mut pos, &mut nrm);
+    }
+    (0..n)
         .map(|k| {
-            let v = TAU * k as Real / 8.0;
             (0..16)
-                .map(|i| {
-                    patch
-                        .point((i + 1) as Real / 16.0, v)
-                        .distance(patch.point(i as Real / 16.0, v))
-                })
+                .map(|i| pos[(i + 1) * n + k].distance(pos[i * n + k]))
                 .sum::<Real>()
         })
         .fold(0.0, Real::max)
@@ -282,25 +287,36 @@ pub fn tessellate_part_into(
 ) -> Result<(), TessellateError> {
     let (mut around, along, cap_rings) = (options.around, options.along, options.cap_rings);
     let segments = part.segments();
+    let caps = [part.start_cap(), part.end_cap()];
+    let order = segments
+        .iter()
+        .map(|s| s.patch.order())
+        .chain(caps.iter().flatten().map(|c| c.patch.order()))
+        .max()
+        .unwrap_or(1);
     let mut along_per: Vec<usize> = vec![along; segments.len()];
     let mut rings = [cap_rings, cap_rings];
     if let Some(e) = options.target_edge {
         if !(e.is_finite() && e > 0.0) {
             return Err(TessellateError::BadEdgeLength(e));
         }
+        // The perimeter only picks a sample count: 1e-6 relative accuracy
+        // (the default 1e-10 doubles the quadrature's samples two or three
+        // more times).
         let perimeter = part
             .curves()
             .iter()
-            .map(|c| c.perimeter())
+            .map(|c| c.perimeter_with_accuracy(1e-6))
             .fold(0.0, Real::max);
         around = steps(perimeter, e).max(8);
+        let eighths = TrigTable::new(8, order);
         along_per = segments
             .iter()
-            .map(|s| steps(u_length(&s.patch), e))
+            .map(|s| steps(u_length(&s.patch, &eighths), e))
             .collect();
-        for (r, cap) in rings.iter_mut().zip([part.start_cap(), part.end_cap()]) {
+        for (r, cap) in rings.iter_mut().zip(caps) {
             if let Some(c) = cap {
-                *r = steps(u_length(&c.patch), e);
+                *r = steps(u_length(&c.patch, &eighths), e);
             }
         }
     } else if around < 3 || along < 1 || cap_rings < 1 {
@@ -310,7 +326,6 @@ pub fn tessellate_part_into(
             cap_rings,
         });
     }
-    let caps = [part.start_cap(), part.end_cap()];
     let ring_count: usize = 1
         + along_per.iter().sum::<usize>()
         + caps
@@ -323,12 +338,6 @@ pub fn tessellate_part_into(
         return Err(TessellateError::TooManyVertices(vertex_count));
     }
 
-    let order = segments
-        .iter()
-        .map(|s| s.patch.order())
-        .chain(caps.iter().flatten().map(|c| c.patch.order()))
-        .max()
-        .unwrap_or(1);
     let table = TrigTable::new(around, order);
     let cap_samples = caps.map(|c| c.map(|c: &Cap| PatchSamples::new(&c.patch, &table)));
 

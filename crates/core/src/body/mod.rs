@@ -68,8 +68,8 @@ use crate::part::{Part, PartError, PartOptions};
 use crate::scan_section::scan_fit_options;
 use crate::section::SectionLoop;
 use crate::segment::{
-    cut_part_along, segment, BodyFrame, BodyGeometry, LandmarkKind, PartAxis, PartName,
-    SegmentError, SegmentOptions, Segmentation,
+    segment, BodyFrame, BodyGeometry, Cutter, LandmarkKind, PartAxis, PartName, SegmentError,
+    SegmentOptions, Segmentation,
 };
 use crate::tessellate::{tessellate_part, TessellateError, TessellationOptions};
 use crate::transition::{fit_magnitudes, Seam, Transition, TransitionSpec};
@@ -405,9 +405,62 @@ pub fn reconstruct(
     reconstruct_with_progress(body, opts, &mut |_| {})
 }
 
-/// [`reconstruct`] calling `progress` with the name of each step as it
-/// starts (for a progress display).
+/// Where a long computation is, for a progress display: the step that
+/// starts now and how many of `total` steps are done (`done == total`
+/// once, at the end, with the stage `"done"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress<'a> {
+    /// The step starting, e.g. `sections: torso`.
+    pub stage: &'a str,
+    pub done: usize,
+    pub total: usize,
+}
+
+impl Progress<'_> {
+    /// `done / total` in `[0, 1]`.
+    pub fn fraction(&self) -> Real {
+        if self.total == 0 {
+            1.0
+        } else {
+            (self.done as Real / self.total as Real).min(1.0)
+        }
+    }
+}
+
+/// Steps [`reconstruct_with_progress`] reports: segmenting, sections of
+/// six parts, skinning, refining six parts, transitions, measuring.
+const RECONSTRUCT_STEPS: usize = 16;
+
+/// [`reconstruct`] calling `progress` as each step starts (segmenting,
+/// each part's sections, skinning, each part's refinement, transitions,
+/// measuring) and
+/// once at the end (see [`Progress`]).
 pub fn reconstruct_with_progress(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+    report_progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<(Body, Report), ReconstructError> {
+    let mut done = 0;
+    let mut progress = |stage: &str| {
+        report_progress(Progress {
+            stage,
+            done: done.min(RECONSTRUCT_STEPS - 1),
+            total: RECONSTRUCT_STEPS,
+        });
+        done += 1;
+    };
+    let result = reconstruct_steps(body, opts, &mut progress);
+    if result.is_ok() {
+        report_progress(Progress {
+            stage: "done",
+            done: RECONSTRUCT_STEPS,
+            total: RECONSTRUCT_STEPS,
+        });
+    }
+    result
+}
+
+fn reconstruct_steps(
     body: BodyGeometry<'_>,
     opts: &ReconstructOptions,
     progress: &mut dyn FnMut(&str),
@@ -444,6 +497,7 @@ pub fn reconstruct_with_progress(
         BodyGeometry::Mesh(_) => 0.6,
         BodyGeometry::Cloud(_) => 1.5,
     } * seg.slice_spacing;
+    let cutter = Cutter::new(body, &seg);
     let mut plans = Vec::new();
     for name in [
         PartName::Torso,
@@ -468,8 +522,7 @@ pub fn reconstruct_with_progress(
             PartName::Torso => Plan {
                 name,
                 cuts: cut_all(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     &fractions(
                         fraction_at_level(axis, up, crotch_level + margin, true),
@@ -485,7 +538,7 @@ pub fn reconstruct_with_progress(
             },
             PartName::Head => Plan {
                 name,
-                cuts: cut_to_rounded_end(body, &seg, name, 0.0, 0.5, step, opts, &mut warnings),
+                cuts: cut_to_rounded_end(&cutter, name, 0.0, 0.5, step, opts, &mut warnings),
                 start_cap: CapKind::Open,
                 end_cap: CapKind::dome(),
                 tip: axis.points.last().copied(),
@@ -501,8 +554,7 @@ pub fn reconstruct_with_progress(
                     .unwrap_or(0.8);
                 let fine = (0.5 * step).max(0.25 * opts.foot_spacing * h / len);
                 let mut cuts = cut_all(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     &fractions(0.0, wrist, step),
                     opts,
@@ -510,8 +562,7 @@ pub fn reconstruct_with_progress(
                 );
                 cuts.pop(); // the wrist itself starts the hand's run
                 cuts.extend(cut_to_rounded_end(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     wrist,
                     wrist,
@@ -542,8 +593,7 @@ pub fn reconstruct_with_progress(
                 let t0 = fraction_at_level(axis, up, crotch_level - margin, false);
                 let upper = (ankle - 0.02 * h / len).max(t0);
                 let mut cuts = cut_all(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     &fractions(t0, upper, step),
                     opts,
@@ -557,8 +607,7 @@ pub fn reconstruct_with_progress(
                     ..*opts
                 };
                 cuts.extend(cut_to_rounded_end(
-                    body,
-                    &seg,
+                    &cutter,
                     name,
                     upper,
                     ankle,
@@ -593,7 +642,7 @@ pub fn reconstruct_with_progress(
     for plan in plans {
         let name = plan.name;
         progress(&format!("skinning and refining: {name}"));
-        match refine(body, &seg, plan, opts, &input, &mut warnings) {
+        match refine(&cutter, plan, opts, &input, &mut warnings) {
             Ok(p) => parts.push(p),
             Err(e) if name != PartName::Torso => {
                 warnings.push(format!("{name} left out: {e}"));
@@ -611,7 +660,7 @@ pub fn reconstruct_with_progress(
         transitions,
     };
     progress("measuring");
-    let report = measure(body, &model, &seg0, opts, warnings)?;
+    let report = measure_with(body, &model, &seg0, opts, warnings, &input)?;
     Ok((model, report))
 }
 
@@ -749,6 +798,31 @@ pub fn reconstruct_cloud(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn progress_counts_every_step_and_ends_at_its_total() {
+        let body = crate::shapes::stick_body(1);
+        let mut seen: Vec<(String, usize, usize)> = Vec::new();
+        reconstruct_with_progress(
+            BodyGeometry::Mesh(&body),
+            &ReconstructOptions::default(),
+            &mut |p| seen.push((p.stage.to_string(), p.done, p.total)),
+        )
+        .unwrap();
+        // One report per step, counting up by one, then "done" at the
+        // total (this body has no arms: their four steps are skipped).
+        // A step added without raising the count would stall the bar
+        // below its end: every step but "done" stays below the total.
+        let (last, steps) = seen.split_last().unwrap();
+        assert_eq!(steps.len(), RECONSTRUCT_STEPS - 4, "{seen:?}");
+        for (k, (_, done, total)) in steps.iter().enumerate() {
+            assert_eq!((*done, *total), (k, RECONSTRUCT_STEPS), "{seen:?}");
+        }
+        assert_eq!(
+            last,
+            &("done".to_string(), RECONSTRUCT_STEPS, RECONSTRUCT_STEPS)
+        );
+    }
 
     #[test]
     fn sphere_is_a_clear_error() {

@@ -1,6 +1,7 @@
 //! Cutting, fitting, refining and skinning each part (pipeline steps 2-3).
 
 use super::*;
+use crate::distance::parallel_map;
 
 /// One cut-and-fitted section.
 pub(super) struct Cut {
@@ -9,14 +10,14 @@ pub(super) struct Cut {
     pub(super) area: Real,
 }
 
-/// Cuts and fits `part` of `seg` at `at`.
+/// Cuts and fits `part` at `at` (through the cutter's shared slicers).
 pub(super) fn cut_and_fit(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     name: PartName,
     at: Real,
     opts: &ReconstructOptions,
 ) -> Result<Cut, String> {
+    let (body, seg) = (cutter.body(), cutter.segmentation());
     // Torso, head and legs (with the feet) are cut across the body's up
     // axis: parallel planes never cross, and a horizontal cut below the
     // ankle is the foot's outline. Arms are cut across their own axis.
@@ -24,7 +25,8 @@ pub(super) fn cut_and_fit(
         PartName::LeftArm | PartName::RightArm => None,
         _ => Some(seg.frame.up),
     };
-    let mut cut = cut_part_along(body, seg, name, at, normal, true, &opts.segment)
+    let mut cut = cutter
+        .cut(name, at, normal, true, &opts.segment)
         .map_err(|e| e.to_string())?;
     if name == PartName::Torso {
         cut.outline = torso_without_arms(seg, cut.outline)
@@ -180,16 +182,21 @@ pub(super) struct Plan {
 
 /// Cuts at every fraction, skipping (with a warning) those that fail.
 pub(super) fn cut_all(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     name: PartName,
     ts: &[Real],
     opts: &ReconstructOptions,
     warnings: &mut Vec<String>,
 ) -> Vec<Cut> {
+    // Independent cuts: split over the cores, results in order.
+    let cuts = parallel_map(ts, 4, |run| {
+        run.iter()
+            .map(|&t| cut_and_fit(cutter, name, t, opts))
+            .collect()
+    });
     let mut out = Vec::with_capacity(ts.len());
-    for &t in ts {
-        match cut_and_fit(body, seg, name, t, opts) {
+    for (&t, cut) in ts.iter().zip(cuts) {
+        match cut {
             Ok(c) => out.push(c),
             Err(e) => warnings.push(format!("{name}: section at {t:.3} skipped: {e}")),
         }
@@ -200,8 +207,7 @@ pub(super) fn cut_all(
 /// Sections up to a rounded end: evenly from `t0` while the loop keeps at
 /// least `end_area_fraction` of the largest loop seen after `watch_from`.
 pub(super) fn cut_to_rounded_end(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     name: PartName,
     t0: Real,
     watch_from: Real,
@@ -213,35 +219,44 @@ pub(super) fn cut_to_rounded_end(
     let mut largest: Real = 0.0;
     let mut failed = 0;
     let ts = fractions(t0, 1.0, step);
-    for &t in &ts[..ts.len().saturating_sub(1)] {
-        let c = match cut_and_fit(body, seg, name, t, opts) {
-            Ok(c) => c,
-            Err(e) => {
-                // Past `watch_from` a failed cut usually means the part has
-                // ended, but a single one may be a flaw of the input (a
-                // foot outline crossing itself where the toes touch, on
-                // the female mesh: its soles were left 1-2 cm uncovered):
-                // skip one, stop at the second in a row.
-                if t >= watch_from {
-                    failed += 1;
-                    if failed >= 2 {
-                        break;
+    let ts = &ts[..ts.len().saturating_sub(1)];
+    // Cut a few planes ahead over the cores, then walk them in order: the
+    // cuts past the end (at most one batch) are made and dropped.
+    let batch = std::thread::available_parallelism().map_or(1, |c| c.get().clamp(1, 8));
+    for chunk in ts.chunks(batch) {
+        let cuts = parallel_map(chunk, 1, |run| {
+            run.iter()
+                .map(|&t| cut_and_fit(cutter, name, t, opts))
+                .collect()
+        });
+        for (&t, c) in chunk.iter().zip(cuts) {
+            let c = match c {
+                Ok(c) => c,
+                Err(e) => {
+                    // Past `watch_from` a failed cut usually means the part
+                    // has ended, but a single one may be a flaw of the input
+                    // (a foot outline crossing itself where the toes touch,
+                    // on the female mesh: its soles were left 1-2 cm
+                    // uncovered): skip one, stop at the second in a row.
+                    if t >= watch_from {
+                        failed += 1;
+                        if failed >= 2 {
+                            return out;
+                        }
                     }
                     warnings.push(format!("{name}: section at {t:.3} skipped: {e}"));
                     continue;
                 }
-                warnings.push(format!("{name}: section at {t:.3} skipped: {e}"));
-                continue;
+            };
+            failed = 0;
+            if t >= watch_from {
+                if largest > 0.0 && c.area < opts.end_area_fraction * largest {
+                    return out;
+                }
+                largest = largest.max(c.area);
             }
-        };
-        failed = 0;
-        if t >= watch_from {
-            if largest > 0.0 && c.area < opts.end_area_fraction * largest {
-                break;
-            }
-            largest = largest.max(c.area);
+            out.push(c);
         }
-        out.push(c);
     }
     out
 }
@@ -425,10 +440,19 @@ pub(super) enum InputDistance<'a> {
 }
 
 impl InputDistance<'_> {
+    /// The distance of one point.
     pub(super) fn distance(&self, p: Point3) -> Real {
         match self {
             InputDistance::Mesh(m) => m.distance(p),
             InputDistance::Cloud(g) => g.nearest(p),
+        }
+    }
+
+    /// The distance of each point (see [`MeshDistance::distances`]).
+    pub(super) fn distances(&self, points: &[Point3]) -> Vec<Real> {
+        match self {
+            InputDistance::Mesh(m) => m.distances(points),
+            InputDistance::Cloud(g) => g.distances(points),
         }
     }
 }
@@ -440,45 +464,107 @@ impl InputDistance<'_> {
 /// runs far inside the body is dropped by the same rule: kept, its side
 /// showed as a wall in the armpit, T-pose p95 6.5 -> 8.9 mm.)
 pub(super) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
-    let mut d: Vec<Real> = c
-        .fit
-        .curve
-        .sample(64)
-        .iter()
-        .map(|p| input.distance(*p))
-        .collect();
+    let mut d = input.distances(&c.fit.curve.sample(64));
     d.sort_by(Real::total_cmp);
     d[48]
+}
+
+/// `n` points of a space curve at `v_i = 2π i/n`, all three series summed
+/// over one table of harmonics per point (one `sin_cos` per point).
+fn curve_points(curve: &crate::curve::SpaceCurve, n: usize) -> Vec<Point3> {
+    let order = curve.order();
+    let (mut co, mut si) = (vec![0.0; order + 1], vec![0.0; order + 1]);
+    let sum = |s: &crate::series::Series, co: &[Real], si: &[Real]| {
+        let c = &s.c;
+        let mut acc = c.first().copied().unwrap_or(0.0);
+        for j in 1..=s.order() {
+            acc += c[2 * j - 1] * co[j] + c[2 * j] * si[j];
+        }
+        acc
+    };
+    (0..n)
+        .map(|i| {
+            crate::series::harmonics(
+                std::f64::consts::TAU * i as Real / n as Real,
+                order,
+                &mut co,
+                &mut si,
+            );
+            Vec3::new(
+                sum(&curve.x, &co, &si),
+                sum(&curve.y, &co, &si),
+                sum(&curve.z, &co, &si),
+            )
+        })
+        .collect()
 }
 
 /// The 90th percentile of the in-plane distances from the loop points of
 /// `cut` to `curve` (sampled densely), both projected into the cut's plane
 /// (a percentile, not the maximum: a scan loop's noise and stray points
 /// must not call for sections everywhere).
+///
+/// Each point's distance to the 256-gon is exact: the previous point's
+/// nearest edge gives a first bound `d`, and an edge with midpoint `m` and
+/// half-length `h` is only measured when `|q − m| < d + h` (every point of
+/// the edge lies within `h` of `m`); the edges sorted by `m_x` limit the
+/// candidates to `|m_x − q_x| ≤ d + h_max` by binary search.
 pub(super) fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
     let f = &cut.fit.curve.frame;
     let n = 256;
-    let poly: Vec<(Real, Real)> = (0..n)
-        .map(|i| {
-            let p = curve.point(std::f64::consts::TAU * i as Real / n as Real) - f.origin;
+    let poly: Vec<(Real, Real)> = curve_points(curve, n)
+        .into_iter()
+        .map(|p| {
+            let p = p - f.origin;
             (p.dot(f.e1), p.dot(f.e2))
         })
         .collect();
-    let mut all = Vec::with_capacity(cut.fit.plane_points.len());
-    for q in &cut.fit.plane_points {
-        let mut best = Real::INFINITY;
-        for i in 0..n {
+    // Per edge: start, direction, squared length, midpoint, half-length.
+    let edges: Vec<[Real; 8]> = (0..n)
+        .map(|i| {
             let (ax, ay) = poly[i];
             let (bx, by) = poly[(i + 1) % n];
             let (dx, dy) = (bx - ax, by - ay);
             let l2 = dx * dx + dy * dy;
-            let t = if l2 > 0.0 {
-                (((q.x - ax) * dx + (q.y - ay) * dy) / l2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let (ex, ey) = (ax + t * dx - q.x, ay + t * dy - q.y);
-            best = best.min((ex * ex + ey * ey).sqrt());
+            let half = 0.5 * l2.sqrt();
+            [ax, ay, dx, dy, l2, ax + 0.5 * dx, ay + 0.5 * dy, half]
+        })
+        .collect();
+    let dist = |e: &[Real; 8], qx: Real, qy: Real| {
+        let [ax, ay, dx, dy, l2, ..] = *e;
+        let t = if l2 > 0.0 {
+            (((qx - ax) * dx + (qy - ay) * dy) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let (ex, ey) = (ax + t * dx - qx, ay + t * dy - qy);
+        (ex * ex + ey * ey).sqrt()
+    };
+    // Edges by their midpoint's x: an edge closer than `d` has its
+    // midpoint within `d + h_max` of the point in x.
+    let mut by_x: Vec<usize> = (0..n).collect();
+    by_x.sort_by(|&a, &b| edges[a][5].total_cmp(&edges[b][5]));
+    let xs: Vec<Real> = by_x.iter().map(|&i| edges[i][5]).collect();
+    let h_max = edges.iter().map(|e| e[7]).fold(0.0, Real::max);
+    let mut all = Vec::with_capacity(cut.fit.plane_points.len());
+    let mut near = 0;
+    for q in &cut.fit.plane_points {
+        let mut best = dist(&edges[near], q.x, q.y);
+        let window = (best + h_max) * (1.0 + 1e-9);
+        let lo = xs.partition_point(|&x| x < q.x - window);
+        let hi = xs.partition_point(|&x| x <= q.x + window);
+        for &i in &by_x[lo..hi] {
+            let e = &edges[i];
+            let (mx, my) = (e[5] - q.x, e[6] - q.y);
+            let reach = best + e[7];
+            if mx * mx + my * my >= reach * reach {
+                continue;
+            }
+            let d = dist(e, q.x, q.y);
+            if d < best {
+                best = d;
+                near = i;
+            }
         }
         all.push(best);
     }
@@ -547,13 +633,13 @@ pub(super) fn drop_outliers(
 /// new section is added; repeated for [`ReconstructOptions::refine_rounds`]
 /// rounds, never closer than [`ReconstructOptions::min_spacing`] × `H`.
 pub(super) fn refine(
-    body: BodyGeometry<'_>,
-    seg: &Segmentation,
+    cutter: &Cutter<'_>,
     mut plan: Plan,
     opts: &ReconstructOptions,
     input: &InputDistance,
     warnings: &mut Vec<String>,
 ) -> Result<BodyPart, ReconstructError> {
+    let (body, seg) = (cutter.body(), cutter.segmentation());
     let name = plan.name;
     let (start_cap, end_cap, tip) = (plan.start_cap, plan.end_cap, plan.tip);
     let far = opts.max_curve_offset * seg.height;
@@ -584,26 +670,27 @@ pub(super) fn refine(
         if segments.len() + 1 != cuts.len() {
             break; // only for the one-patch-per-interval schemes
         }
-        let mut added = Vec::new();
-        for i in 0..cuts.len() - 1 {
-            let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
-            if t1 - t0 < 2.0 * min_step {
-                continue;
-            }
-            let tm = 0.5 * (t0 + t1);
-            let Ok(c) = cut_and_fit(body, seg, name, tm, opts) else {
-                continue;
-            };
-            let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
-            let plausible =
-                c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
-            if plausible
-                && curve_offset(&c, input) <= far
-                && stray(&c, &segments[i].patch.curve_at(0.5)) > tol
-            {
-                added.push(c);
-            }
-        }
+        // The halfway cuts of one round are independent: split over the
+        // cores, kept in order.
+        let intervals: Vec<usize> = (0..cuts.len() - 1).collect();
+        let added: Vec<Cut> = parallel_map(&intervals, 4, |run| {
+            run.iter()
+                .filter_map(|&i| {
+                    let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
+                    if t1 - t0 < 2.0 * min_step {
+                        return None;
+                    }
+                    let c = cut_and_fit(cutter, name, 0.5 * (t0 + t1), opts).ok()?;
+                    let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
+                    let plausible =
+                        c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
+                    (plausible
+                        && curve_offset(&c, input) <= far
+                        && stray(&c, &segments[i].patch.curve_at(0.5)) > tol)
+                        .then_some(c)
+                })
+                .collect()
+        });
         if added.is_empty() {
             break;
         }

@@ -1,6 +1,7 @@
 //! The [`Report`]: how well and how compactly a [`Body`] fits its input.
 
 use super::*;
+use crate::distance::{coherent_map, parallel_map};
 
 /// Per-part numbers of the [`Report`].
 #[derive(Clone, Debug, PartialEq)]
@@ -125,34 +126,73 @@ pub fn measure(
     opts: &ReconstructOptions,
     warnings: Vec<String>,
 ) -> Result<Report, ReconstructError> {
+    let input = match body {
+        BodyGeometry::Mesh(m) => InputDistance::Mesh(MeshDistance::new(m)),
+        BodyGeometry::Cloud(c) => {
+            InputDistance::Cloud(PointGrid::new(&c.positions, 0.01 * model.height))
+        }
+    };
+    measure_with(body, model, seg, opts, warnings, &input)
+}
+
+/// [`measure`] with the input's distance structure already built (the
+/// refinement's).
+pub(super) fn measure_with(
+    body: BodyGeometry<'_>,
+    model: &Body,
+    seg: &Segmentation,
+    opts: &ReconstructOptions,
+    warnings: Vec<String>,
+    input: &InputDistance,
+) -> Result<Report, ReconstructError> {
     let mm = opts.units.to_mm();
     let tess = TessellationOptions {
         target_edge: Some(opts.report_edge * model.height),
         ..TessellationOptions::default()
     };
-    let surface = model.tessellate(&tess)?;
-    let model_dist = MeshDistance::new(&surface);
+    // The parts tessellated over the cores, then the transitions, joined
+    // in order (as `Body::tessellate`).
+    let meshes = parallel_map(&model.parts, 1, |run| {
+        run.iter()
+            .map(|p| {
+                tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
+                    part: p.name,
+                    source,
+                })
+            })
+            .collect()
+    });
+    let mut surface = Mesh::default();
+    for m in meshes {
+        append_mesh(&mut surface, &m?);
+    }
+    for t in &model.transitions {
+        let edge = opts.report_edge * model.height;
+        append_mesh(&mut surface, &t.transition.tessellate_edge(edge));
+    }
     let model_samples = sample_surface(&surface, opts.report_samples);
-    let (input_samples, input_count, out_d) = match body {
-        BodyGeometry::Mesh(m) => {
-            let input = MeshDistance::new(m);
-            let d: Vec<Real> = model_samples.iter().map(|p| input.distance(*p)).collect();
-            (sample_surface(m, opts.report_samples), m.positions.len(), d)
+    // Model -> input while the model's hierarchy is built (two cores).
+    let ((out_d, input_samples, input_count), model_dist) = std::thread::scope(|scope| {
+        let out = scope.spawn(|| {
+            let d = input.distances(&model_samples);
+            match body {
+                BodyGeometry::Mesh(m) => {
+                    (d, sample_surface(m, opts.report_samples), m.positions.len())
+                }
+                BodyGeometry::Cloud(c) => (
+                    d,
+                    every_kth(&c.positions, opts.report_samples),
+                    c.positions.len(),
+                ),
+            }
+        });
+        let model_dist = MeshDistance::new(&surface);
+        match out.join() {
+            Ok(o) => (o, model_dist),
+            Err(panic) => std::panic::resume_unwind(panic),
         }
-        BodyGeometry::Cloud(c) => {
-            let grid = PointGrid::new(&c.positions, 0.01 * model.height);
-            let d: Vec<Real> = model_samples.iter().map(|p| grid.nearest(*p)).collect();
-            (
-                every_kth(&c.positions, opts.report_samples),
-                c.positions.len(),
-                d,
-            )
-        }
-    };
-    let in_d: Vec<Real> = input_samples
-        .iter()
-        .map(|p| model_dist.distance(*p))
-        .collect();
+    });
+    let in_d = model_dist.distances(&input_samples);
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
     let hidden_flags: Vec<bool> = match body {
         BodyGeometry::Mesh(m) => {
@@ -280,9 +320,34 @@ impl<'a> PointGrid<'a> {
 
     /// Distance from `p` to the nearest point (infinite for an empty cloud).
     pub fn nearest(&self, p: Point3) -> Real {
+        self.nearest_from(p, None).0
+    }
+
+    /// The distance from each of `points` to the nearest point, exactly as
+    /// [`PointGrid::nearest`], faster: the points are visited in Morton
+    /// order ([`coherent_map`]) and each search starts from the previous
+    /// point's nearest point, whose distance bounds it (cells farther away
+    /// are skipped).
+    pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
+        coherent_map(points, |p, seed: &mut Option<u32>| {
+            let (d, i) = self.nearest_from(p, *seed);
+            *seed = i;
+            d
+        })
+    }
+
+    /// The distance from `p` to the nearest point and its index, starting
+    /// from point `seed` (its distance bounds the search; it is the answer
+    /// unless a point lies strictly closer).
+    fn nearest_from(&self, p: Point3, seed: Option<u32>) -> (Real, Option<u32>) {
         if self.order.is_empty() || !p.is_finite() {
-            return Real::INFINITY;
+            return (Real::INFINITY, None);
         }
+        let seed = seed.filter(|&i| self.points.get(i as usize).is_some_and(|q| q.is_finite()));
+        let (mut best, mut best_i) = match seed {
+            Some(i) => (self.points[i as usize].distance(p), Some(i)),
+            None => (Real::INFINITY, None),
+        };
         let c = self.coords(p);
         let clamp = |v: i64, n: usize| v.clamp(0, n as i64 - 1);
         let cc = [
@@ -305,7 +370,6 @@ impl<'a> PointGrid<'a> {
         );
         let outside2 = (p - q).norm_squared();
         let maxr = *self.dims.iter().max().unwrap_or(&1) as i64;
-        let mut best = Real::INFINITY;
         for r in 0..=maxr {
             // Every point in shell r is at least (r - 1) cells from q.
             let inner = ((r - 1).max(0) as Real) * self.cell;
@@ -322,16 +386,32 @@ impl<'a> PointGrid<'a> {
                         if (0..3).any(|i| q[i] < 0 || q[i] >= self.dims[i] as i64) {
                             continue;
                         }
+                        // Skip a cell whose box is no nearer than the best.
+                        let lo = self.origin
+                            + Vec3::new(q[0] as Real, q[1] as Real, q[2] as Real) * self.cell;
+                        let hi = lo + Vec3::new(self.cell, self.cell, self.cell);
+                        let gap = Vec3::new(
+                            (lo.x - p.x).max(0.0).max(p.x - hi.x),
+                            (lo.y - p.y).max(0.0).max(p.y - hi.y),
+                            (lo.z - p.z).max(0.0).max(p.z - hi.z),
+                        );
+                        if gap.norm_squared() >= best * best {
+                            continue;
+                        }
                         let k = self.key(q);
                         for &i in &self.order[self.starts[k] as usize..self.starts[k + 1] as usize]
                         {
-                            best = best.min(self.points[i as usize].distance(p));
+                            let d = self.points[i as usize].distance(p);
+                            if d < best {
+                                best = d;
+                                best_i = Some(i);
+                            }
                         }
                     }
                 }
             }
         }
-        best
+        (best, best_i)
     }
 }
 
@@ -358,5 +438,16 @@ mod tests {
                 .fold(Real::INFINITY, Real::min);
             assert!((grid.nearest(q) - brute).abs() < 1e-12, "{q:?}");
         }
+        let queries: Vec<Point3> = (0..9000)
+            .map(|_| {
+                Vec3::new(
+                    3.0 * rng.uniform() - 1.0,
+                    3.0 * rng.uniform() - 0.5,
+                    rng.uniform(),
+                )
+            })
+            .collect();
+        let single: Vec<Real> = queries.iter().map(|q| grid.nearest(*q)).collect();
+        assert_eq!(grid.distances(&queries), single);
     }
 }

@@ -2758,6 +2758,11 @@ fn local_mesh(m: &Mesh, centre: Point3, radius: Real) -> Mesh {
     }
 }
 
+/// How much wider than the arm's median loop (radius ratio) a loop of a
+/// sideways arm's branch near the armpit may be and still start its axis
+/// (see [`lateral_arm`]).
+const LATERAL_ARM_WIDE: Real = 1.25;
+
 /// An arm found in slices across the body.
 struct LateralArm {
     /// Centroids and radii from the shoulder junction out to the hand.
@@ -2832,14 +2837,47 @@ fn lateral_arm(
         .max_by_key(|ids| ids.len())?;
     let first = *best.first()?;
     let last = *best.last()?;
-    let mut axis_pts: Vec<(Point3, Real)> = best
+    // Near the armpit the slices across the body cut the shoulder
+    // lengthwise: their loops (deltoid and chest) are far wider than the
+    // arm and their centroids rise to the shoulder's top, so an axis
+    // through them climbs before it runs out, and the arm's first
+    // perpendicular cuts slant through the shoulder (T-pose scan: arms
+    // p95 30 mm). The axis starts where the loops are arm-sized again
+    // (radius at most `LATERAL_ARM_WIDE` times the chain's median);
+    // the shoulder extension then continues it inward along the arm.
+    let mut radii: Vec<Real> = best.iter().map(|&a| g.nodes[a].radius).collect();
+    radii.sort_by(Real::total_cmp);
+    let wide = LATERAL_ARM_WIDE * radii[radii.len() / 2];
+    let keep = best.len()
+        - best
+            .iter()
+            .rev()
+            .take_while(|&&a| g.nodes[a].radius > wide)
+            .count()
+            .min(best.len() / 2);
+    let mut axis_pts: Vec<(Point3, Real)> = best[..keep]
         .iter()
         .rev()
         .map(|&a| (g.nodes[a].centroid, g.nodes[a].radius))
         .collect();
+    let armpit = g.nodes[last].centroid + axis * (0.5 * lstep);
+    // In place of the wide loops: the arm's direction (over its first
+    // tenth) continued straight inward to the armpit's depth.
+    if keep < best.len() && axis_pts.len() >= 10 {
+        let (q0, r0) = axis_pts[0];
+        let q1 = axis_pts[axis_pts.len() / 10].0;
+        if let Some(d) = (q0 - q1).normalized() {
+            let reach = (armpit - q0).dot(d);
+            let n = (reach / lstep).floor().max(0.0) as usize;
+            let inward: Vec<(Point3, Real)> = (1..=n)
+                .rev()
+                .map(|k| (q0 + d * (reach * k as Real / n as Real), r0))
+                .collect();
+            axis_pts.splice(0..0, inward);
+        }
+    }
     let tip = g.nodes[first].centroid + axis * (min - g.nodes[first].centroid.dot(axis));
     axis_pts.push((tip, g.nodes[first].radius));
-    let armpit = g.nodes[last].centroid + axis * (0.5 * lstep);
     Some(LateralArm {
         axis: axis_pts,
         armpit,

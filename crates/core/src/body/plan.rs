@@ -322,6 +322,7 @@ pub(super) fn build_part(
     plan: Plan,
     opts: &ReconstructOptions,
     scan: bool,
+    end_check: (&InputDistance, Real),
     warnings: &mut Vec<String>,
 ) -> Result<(BodyPart, Vec<Cut>), ReconstructError> {
     let Plan {
@@ -332,6 +333,8 @@ pub(super) fn build_part(
         tip,
     } = plan;
     let mut dome_retries = 0;
+    let mut end_measured = false;
+    let sole = matches!(name, PartName::LeftLeg | PartName::RightLeg);
     loop {
         if cuts.len() < 2 {
             return Err(ReconstructError::TooFewSections {
@@ -339,19 +342,7 @@ pub(super) fn build_part(
                 count: cuts.len(),
             });
         }
-        if let (Some(tip), Some(last)) = (tip, cuts.last()) {
-            // Dome height relative to the last loop's mean radius.
-            let c = &last.fit.curve;
-            let r = (c.area().abs() / std::f64::consts::PI).sqrt();
-            let d = (tip - c.frame.origin)
-                .dot(c.frame.e1.cross(c.frame.e2))
-                .abs();
-            if r > 0.0 && d > 0.0 {
-                end_cap = CapKind::Dome {
-                    relative_height: (d / r).clamp(0.02, 4.0),
-                };
-            }
-        }
+        end_cap = dome_to_tip(&cuts, tip, end_cap);
         let options = PartOptions {
             start_cap,
             end_cap,
@@ -372,7 +363,6 @@ pub(super) fn build_part(
                 // heel to toe, so the rule dropped the scans' lowest foot
                 // sections (male virtual scan: 618 of 2618 samples below
                 // 0.05 H uncovered).
-                let sole = matches!(name, PartName::LeftLeg | PartName::RightLeg);
                 let check = scan && !sole && dome_retries < 3;
                 if let (true, Some(tip), Some(cap), Some(last)) =
                     (check, tip, part.end_cap(), cuts.last())
@@ -393,6 +383,21 @@ pub(super) fn build_part(
                         ));
                         dome_retries += 1;
                         cuts.pop();
+                        continue;
+                    }
+                }
+                if tip.is_some() && !sole && !end_measured {
+                    end_measured = true;
+                    if let Some((k, before, after)) =
+                        better_end(&cuts, &part, tip, &options, end_check)
+                    {
+                        warnings.push(format!(
+                            "{name}: last {k} section(s) from {:.3} dropped (the end dome strays {:.1} mm RMS from the input with them, {:.1} mm without)",
+                            cuts[cuts.len() - k].at,
+                            before * opts.units.to_mm(),
+                            after * opts.units.to_mm()
+                        ));
+                        cuts.truncate(cuts.len() - k);
                         continue;
                     }
                 }
@@ -431,6 +436,89 @@ pub(super) fn build_part(
             Err(source) => return Err(ReconstructError::Part { part: name, source }),
         }
     }
+}
+
+/// A dome end (`tip` given) sized to reach the tip: its height is the
+/// tip's distance from the last section's plane, relative to the last
+/// loop's mean radius `√(A/π)` (clamped to `[0.02, 4]`); `cap` unchanged
+/// without a tip.
+fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
+    let (Some(tip), Some(last)) = (tip, cuts.last()) else {
+        return cap;
+    };
+    let c = &last.fit.curve;
+    let r = (c.area().abs() / std::f64::consts::PI).sqrt();
+    let d = (tip - c.frame.origin)
+        .dot(c.frame.e1.cross(c.frame.e2))
+        .abs();
+    if r > 0.0 && d > 0.0 {
+        CapKind::Dome {
+            relative_height: (d / r).clamp(0.02, 4.0),
+        }
+    } else {
+        cap
+    }
+}
+
+/// RMS distance to the input of the end dome's surface: 6 × 32 points at
+/// `u = (i + ½)/6`, `v = 2πj/32` of the cap's patch (`u = 0` the last
+/// section, `u = 1` the apex). `None` without a dome.
+fn dome_error(part: &Part, input: &InputDistance) -> Option<Real> {
+    let cap = part.end_cap()?;
+    let pts: Vec<Point3> = (0..6)
+        .flat_map(|i| {
+            (0..32).map(move |j| {
+                let u = (i as Real + 0.5) / 6.0;
+                let v = std::f64::consts::TAU * j as Real / 32.0;
+                (u, v)
+            })
+        })
+        .map(|(u, v)| cap.patch.point(u, v))
+        .collect();
+    let d = input.distances(&pts);
+    Some((d.iter().map(|x| x * x).sum::<Real>() / d.len() as Real).sqrt())
+}
+
+/// A dome end that strays from the input (RMS above `tol`, the second of
+/// `end_check`) may come from a last section that is not the hand's or the
+/// head's run: a loop where the fingers part, whose shape and centre jump
+/// from its neighbour's, tilts the end tangent, and the dome, which
+/// follows the tangent's harmonics over its whole height, bulges into a
+/// paddle (the legs-spread variant of the built-in body: hands 28 mm p95).
+/// Tries the part without its last 1-3 sections (at least four kept) and
+/// returns `(k, before, after)` for the best when its dome strays less than
+/// half as much. Measured, not guessed: a good end is kept.
+fn better_end(
+    cuts: &[Cut],
+    part: &Part,
+    tip: Option<Point3>,
+    options: &PartOptions,
+    (input, tol): (&InputDistance, Real),
+) -> Option<(usize, Real, Real)> {
+    let before = dome_error(part, input)?;
+    if !(before > tol) {
+        return None;
+    }
+    let n = cuts.len();
+    let mut best: Option<(usize, Real)> = None;
+    for k in 1..=3usize.min(n.saturating_sub(4)) {
+        let head = &cuts[..n - k];
+        let o = PartOptions {
+            end_cap: dome_to_tip(head, tip, options.end_cap),
+            ..*options
+        };
+        let curves: Vec<TrigCurve> = head.iter().map(|c| c.fit.curve.clone()).collect();
+        let Ok(p) = Part::new(curves, &o) else {
+            continue;
+        };
+        if let Some(e) = dome_error(&p, input) {
+            if best.map_or(true, |(_, b)| e < b) {
+                best = Some((k, e));
+            }
+        }
+    }
+    let (k, after) = best?;
+    (after < 0.5 * before).then_some((k, before, after))
 }
 
 /// Distances to the input: its surface (mesh) or its nearest point (cloud).
@@ -657,8 +745,13 @@ pub(super) fn refine(
     // One pass: a second one (for outliers among outliers) dropped real
     // sections of the base mesh's feet and hands (RMS 3.2 -> 4.6 mm).
     let plan = drop_outliers(plan, opts, warnings);
-    let (mut built, mut cuts) =
-        build_part(plan, opts, matches!(body, BodyGeometry::Cloud(_)), warnings)?;
+    let (mut built, mut cuts) = build_part(
+        plan,
+        opts,
+        matches!(body, BodyGeometry::Cloud(_)),
+        (input, opts.refine_tolerance * seg.height),
+        warnings,
+    )?;
     let len = seg.part(name).map_or(0.0, PartAxis::length);
     if !(len > 0.0) {
         return Ok(built);
@@ -703,7 +796,13 @@ pub(super) fn refine(
             end_cap,
             tip,
         };
-        (built, cuts) = build_part(plan, opts, matches!(body, BodyGeometry::Cloud(_)), warnings)?;
+        (built, cuts) = build_part(
+            plan,
+            opts,
+            matches!(body, BodyGeometry::Cloud(_)),
+            (input, opts.refine_tolerance * seg.height),
+            warnings,
+        )?;
     }
     Ok(built)
 }

@@ -8,8 +8,9 @@
 //! `cargo test --release -p trigbody-io --test pose_variants -- --nocapture`
 //! prints the table. The issue-5 targets are printed as met or not; the
 //! assertions guard what every variant must give (all parts found and
-//! built, a report within loose bounds), so a crash or a lost part fails
-//! while the open accuracy targets stay visible.
+//! built) and each variant's RMS, p95 and coverage a little beyond what
+//! was measured, so a regression fails while the open accuracy targets
+//! stay visible.
 
 use trigbody_core::body::{reconstruct, Body, ReconstructOptions, Report};
 use trigbody_core::scanner::{virtual_scan, ScannerOptions};
@@ -121,7 +122,15 @@ fn row(name: &str, r: &Report) {
     );
 }
 
-fn check(name: &str, body: &Body, r: &Report) {
+/// Upper bounds on RMS and p95 (mm) and a lower bound on coverage, for one
+/// reconstruction.
+struct Limits {
+    rms: Real,
+    p95: Real,
+    coverage: Real,
+}
+
+fn check(name: &str, body: &Body, r: &Report, lim: &Limits) {
     row(name, r);
     // The built-in body faces +z (only this test knows): a scan whose feet
     // break into heel and toe loops near the floor once turned it round.
@@ -132,11 +141,19 @@ fn check(name: &str, body: &Body, r: &Report) {
     );
     assert_eq!(r.parts_found.len(), 8, "{name}: {:?}", r.parts_found);
     assert_eq!(r.parts.len(), 6, "{name}: {:?}", r.warnings);
-    // Loose guards (measured at the time of writing: rms 4.4-7.3 mm,
-    // coverage 93-97 %): a lost limb or a model far off the body fails.
-    assert!(r.distance_mm.rms < 30.0, "{name}: {:?}", r.distance_mm);
-    assert!(r.coverage > 0.8, "{name}: {}", r.coverage);
-    assert!(r.parameter_ratio() < 0.3, "{name}: {}", r.parameter_ratio());
+    // Per-variant guards a little beyond what was measured (see the table
+    // in docs/reconstruct.md, "Other poses and shapes"): a lost limb, a
+    // hand flattened into a paddle (legs-spread mesh, RMS 5.96 mm before)
+    // or sideways arms cut at a slant (T-pose scan, p95 24.7 mm before)
+    // fails.
+    assert!(r.distance_mm.rms < lim.rms, "{name}: {:?}", r.distance_mm);
+    assert!(r.distance_mm.p95 < lim.p95, "{name}: {:?}", r.distance_mm);
+    assert!(r.coverage > lim.coverage, "{name}: {}", r.coverage);
+    assert!(
+        r.parameter_ratio() < 0.27,
+        "{name}: {}",
+        r.parameter_ratio()
+    );
 }
 
 #[test]
@@ -149,20 +166,36 @@ fn re_posed_and_re_shaped_bodies_reconstruct() {
     let arms = [PartName::LeftArm, PartName::RightArm];
     let legs = [PartName::LeftLeg, PartName::RightLeg];
     let deg = std::f64::consts::PI / 180.0;
-    let variants: Vec<(&str, Mesh)> = vec![
+    let lim = |rms, p95, coverage| Limits { rms, p95, coverage };
+    // Measured (mesh; scan): T 3.60 / 2.77 / 96.52 %; 6.12 / 13.88 /
+    // 96.20 %. Legs 3.48 / 2.89 / 96.34 %; 3.84 / 10.08 / 97.42 %.
+    // Shorter 3.40 / 2.51 / 97.14 %; 4.02 / 9.68 / 97.14 %.
+    let variants: Vec<(&str, Mesh, Limits, Limits)> = vec![
         (
             "arms raised 45 deg (about T)",
             repose(&mesh, &arms, 45.0 * deg),
+            lim(4.2, 3.5, 0.955),
+            lim(7.0, 17.0, 0.95),
         ),
-        ("legs spread 8 deg", repose(&mesh, &legs, 8.0 * deg)),
-        ("shorter x0.85, wider x1.1", scaled(&mesh, up, 1.1, 0.85)),
+        (
+            "legs spread 8 deg",
+            repose(&mesh, &legs, 8.0 * deg),
+            lim(4.2, 3.5, 0.955),
+            lim(4.5, 12.0, 0.965),
+        ),
+        (
+            "shorter x0.85, wider x1.1",
+            scaled(&mesh, up, 1.1, 0.85),
+            lim(4.0, 3.2, 0.96),
+            lim(4.7, 11.5, 0.96),
+        ),
     ];
     let opts = ReconstructOptions::default();
-    for (name, m) in &variants {
+    for (name, m, mesh_lim, scan_lim) in &variants {
         let (body, r) = reconstruct(BodyGeometry::Mesh(m), &opts).expect(name);
-        check(name, &body, &r);
+        check(name, &body, &r, mesh_lim);
         let scan = virtual_scan(m, &ScannerOptions::default()).expect("scans");
         let (body, r) = reconstruct(BodyGeometry::Cloud(&scan.cloud), &opts).expect(name);
-        check(&format!("{name}, scan"), &body, &r);
+        check(&format!("{name}, scan"), &body, &r, scan_lim);
     }
 }

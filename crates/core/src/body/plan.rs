@@ -322,7 +322,7 @@ pub(super) fn build_part(
     plan: Plan,
     opts: &ReconstructOptions,
     scan: bool,
-    end_check: (&InputDistance, &[Point3], Real),
+    end_check: Option<(&InputDistance, &[Point3], Real)>,
     warnings: &mut Vec<String>,
 ) -> Result<(BodyPart, Vec<Cut>), ReconstructError> {
     let Plan {
@@ -386,10 +386,9 @@ pub(super) fn build_part(
                         continue;
                     }
                 }
-                if tip.is_some() && !sole && !end_measured {
+                if let (Some(check), false, false) = (end_check, sole, end_measured) {
                     end_measured = true;
-                    if let Some((k, before, after)) =
-                        better_end(&cuts, &part, tip, &options, end_check)
+                    if let Some((k, before, after)) = better_end(&cuts, &part, tip, &options, check)
                     {
                         warnings.push(format!(
                             "{name}: last {k} section(s) from {:.3} dropped (the end strays {:.1} mm RMS from the input both ways with them, {:.1} mm without)",
@@ -466,14 +465,7 @@ fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
 fn dome_error(part: &Part, input: &InputDistance) -> Option<Real> {
     let cap = part.end_cap()?;
     let pts: Vec<Point3> = (0..6)
-        .flat_map(|i| {
-            (0..32).map(move |j| {
-                let u = (i as Real + 0.5) / 6.0;
-                let v = std::f64::consts::TAU * j as Real / 32.0;
-                (u, v)
-            })
-        })
-        .map(|(u, v)| cap.patch.point(u, v))
+        .flat_map(|i| curve_points(&cap.patch.curve_at((i as Real + 0.5) / 6.0), 32))
         .collect();
     let d = input.distances(&pts);
     Some((d.iter().map(|x| x * x).sum::<Real>() / d.len() as Real).sqrt())
@@ -507,7 +499,7 @@ fn better_end(
     let n = cuts.len();
     // The input around the end: within the tip's distance from the fourth
     // section from the end (the last one every candidate keeps), at most
-    // 500 of them.
+    // 200 of them.
     let reach = cuts
         .get(n.checked_sub(4)?)?
         .fit
@@ -523,33 +515,42 @@ fn better_end(
     let near: Vec<Point3> = near
         .iter()
         .copied()
-        .step_by(near.len().div_ceil(500).max(1))
+        .step_by(near.len().div_ceil(200).max(1))
         .collect();
-    let before = end_error(part, input, &near)?;
-    let mut best: Option<(usize, Real)> = None;
-    for k in 1..=3usize.min(n.saturating_sub(4)) {
-        let head = &cuts[..n - k];
+    // Each end built from the last ten sections at most: the last four
+    // patches and the dome depend on the last five curves only (Catmull-Rom
+    // takes one neighbour either side), and a short part is quick to build.
+    let from = n.saturating_sub(10);
+    let end = |k: usize| {
+        let head = &cuts[from..n - k];
         let o = PartOptions {
+            start_cap: CapKind::Open,
             end_cap: dome_to_tip(head, Some(tip), options.end_cap),
             ..*options
         };
         let curves: Vec<TrigCurve> = head.iter().map(|c| c.fit.curve.clone()).collect();
-        let Ok(p) = Part::new(curves, &o) else {
-            continue;
-        };
-        if let Some(e) = end_error(&p, input, &near) {
-            if best.is_none_or(|(_, b)| e < b) {
-                best = Some((k, e));
-            }
-        }
-    }
+        Part::new(curves, &o)
+            .ok()
+            .and_then(|p| end_error(&p, input, &near))
+    };
+    // The four ends (0-3 sections dropped) over the cores.
+    let ks: Vec<usize> = (0..=3usize.min(n.saturating_sub(4))).collect();
+    let errors: Vec<Option<Real>> =
+        parallel_map(&ks, 1, |run| run.iter().map(|&k| end(k)).collect());
+    let before = errors[0].or_else(|| end_error(part, input, &near))?;
+    let best = ks
+        .iter()
+        .zip(&errors)
+        .skip(1)
+        .filter_map(|(&k, e)| e.map(|e| (k, e)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
     let (k, after) = best?;
     (after < 0.7 * before).then_some((k, before, after))
 }
 
 /// The end's error both ways: `√((d_out² + d_in²)/2)` with `d_out` the
 /// dome's RMS distance to the input ([`dome_error`]) and `d_in` the RMS
-/// distance of the input points `near` the end to the nearest of 8 × 48
+/// distance of the input points `near` the end to the nearest of 6 × 32
 /// points of each of the part's last four patches and its dome (a
 /// shortened end that leaves the fingertips bare pays for it here).
 fn end_error(part: &Part, input: &InputDistance, near: &[Point3]) -> Option<Real> {
@@ -565,12 +566,9 @@ fn end_error(part: &Part, input: &InputDistance, near: &[Point3]) -> Option<Real
         .chain(std::iter::once(&cap.patch));
     let mut samples = Vec::new();
     for patch in patches {
-        for i in 0..8 {
-            for j in 0..48 {
-                let u = (i as Real + 0.5) / 8.0;
-                let v = std::f64::consts::TAU * j as Real / 48.0;
-                samples.push(patch.point(u, v));
-            }
+        for i in 0..6 {
+            let u = (i as Real + 0.5) / 6.0;
+            samples.extend(curve_points(&patch.curve_at(u), 32));
         }
     }
     let sum: Real = near
@@ -814,7 +812,9 @@ pub(super) fn refine(
         plan,
         opts,
         matches!(body, BodyGeometry::Cloud(_)),
-        (input, body.positions(), opts.refine_tolerance * seg.height),
+        // The end is measured once, on the first build: the refinement
+        // only adds sections between the kept ones.
+        Some((input, body.positions(), opts.refine_tolerance * seg.height)),
         warnings,
     )?;
     let len = seg.part(name).map_or(0.0, PartAxis::length);
@@ -865,7 +865,7 @@ pub(super) fn refine(
             plan,
             opts,
             matches!(body, BodyGeometry::Cloud(_)),
-            (input, body.positions(), opts.refine_tolerance * seg.height),
+            None,
             warnings,
         )?;
     }

@@ -433,33 +433,56 @@ impl Transition {
 
 /// Chooses the magnitudes on [`MAGNITUDE_GRID`] × `d` (`d` the distance
 /// between the boundary curves' centres) minimizing the mean squared
-/// `distance` from 8 × 32 surface points strictly between the curves, over
+/// distance from 8 × 32 surface points strictly between the curves, over
 /// the whole grid (coordinate descent stalls in the diagonal valleys where
-/// one magnitude makes up for the other).
+/// one magnitude makes up for the other). `distances` maps a batch of
+/// points to their distances from the input: all 64 candidates' points go
+/// in one batch (the patches built over the cores), so a batched,
+/// warm-started distance structure serves them; the first candidate of
+/// least score wins, as in a scan of the grid in order.
 pub fn fit_magnitudes(
     curves: &[SpaceCurve; 4],
-    distance: &dyn Fn(Point3) -> Real,
+    distances: &dyn Fn(&[Point3]) -> Vec<Real>,
 ) -> Result<[Real; 2], TransitionError> {
+    const ROWS: usize = 8;
+    const AROUND: usize = 32;
     let [p0, t0, p1, t1] = curves;
     let d = centre(p0).distance(centre(p1));
     if !(d > 0.0) {
         return Err(TransitionError::BadMagnitudes(d, d));
     }
-    let mut best = (Real::INFINITY, [d, d]);
-    for a in MAGNITUDE_GRID {
-        for b in MAGNITUDE_GRID {
-            let patch = Patch::hermite(p0, &scale(t0, a * d), p1, &scale(t1, b * d))?;
-            let mut sum = 0.0;
-            for j in 1..=8 {
-                let c = patch.curve_at(j as Real / 9.0);
-                for i in 0..32 {
-                    sum += distance(c.point(TAU * i as Real / 32.0)).powi(2);
+    let grid: Vec<[Real; 2]> = MAGNITUDE_GRID
+        .iter()
+        .flat_map(|&a| MAGNITUDE_GRID.iter().map(move |&b| [a, b]))
+        .collect();
+    let points = crate::distance::parallel_map(&grid, 8, |run| {
+        run.iter()
+            .map(|&[a, b]| {
+                let patch = Patch::hermite(p0, &scale(t0, a * d), p1, &scale(t1, b * d))?;
+                let mut pts = Vec::with_capacity(ROWS * AROUND);
+                for j in 1..=ROWS {
+                    let c = patch.curve_at(j as Real / (ROWS + 1) as Real);
+                    for i in 0..AROUND {
+                        pts.push(c.point(TAU * i as Real / AROUND as Real));
+                    }
                 }
-            }
-            let score = sum / (8 * 32) as Real;
-            if score < best.0 {
-                best = (score, [a * d, b * d]);
-            }
+                Ok::<_, TransitionError>(pts)
+            })
+            .collect()
+    })
+    .into_iter()
+    .collect::<Result<Vec<Vec<Point3>>, TransitionError>>()?
+    .concat();
+    let dist = distances(&points);
+    let mut best = (Real::INFINITY, [d, d]);
+    for (k, &[a, b]) in grid.iter().enumerate() {
+        let mut sum = 0.0;
+        for &e in &dist[k * ROWS * AROUND..(k + 1) * ROWS * AROUND] {
+            sum += e.powi(2);
+        }
+        let score = sum / (ROWS * AROUND) as Real;
+        if score < best.0 {
+            best = (score, [a * d, b * d]);
         }
     }
     Ok(best.1)
@@ -603,7 +626,8 @@ mod tests {
             (q.x * q.x + q.y * q.y).sqrt()
         };
         let dist = |p: Point3| ((p.x * p.x + p.y * p.y).sqrt() - radius_at(p.z)).abs();
-        let m = fit_magnitudes(&[p0, t0, p1, t1], &dist).unwrap();
+        let batch = |pts: &[Point3]| pts.iter().map(|&p| dist(p)).collect();
+        let m = fit_magnitudes(&[p0, t0, p1, t1], &batch).unwrap();
         assert!(
             (m[0] - 0.5).abs() < 1e-12 && (m[1] - 1.5).abs() < 1e-12,
             "{m:?}"

@@ -683,7 +683,7 @@ fn assemble(
     let Some(ti) = parts.iter().position(|p| p.name == PartName::Torso) else {
         return out;
     };
-    let distance = |p: Point3| input.distance(p);
+    let distance = |points: &[Point3]| input.distances(points);
     let build = |from: usize, spec: TransitionSpec, parts: &[BodyPart]| {
         let (f, t) = (&parts[from].part, &parts[ti].part);
         Transition::boundaries(f, t, &spec)

@@ -172,17 +172,23 @@ pub(super) fn measure_with(
     }
     let model_samples = sample_surface(&surface, opts.report_samples);
     // Model -> input while the model's hierarchy is built (two cores).
-    let ((out_d, input_samples, input_count), model_dist) = std::thread::scope(|scope| {
+    // The input mesh's ray-casting hierarchy (for the hidden samples) is
+    // built on that side too.
+    let ((out_d, input_samples, input_count, vis), model_dist) = std::thread::scope(|scope| {
         let out = scope.spawn(|| {
             let d = input.distances(&model_samples);
             match body {
-                BodyGeometry::Mesh(m) => {
-                    (d, sample_surface(m, opts.report_samples), m.positions.len())
-                }
+                BodyGeometry::Mesh(m) => (
+                    d,
+                    sample_surface(m, opts.report_samples),
+                    m.positions.len(),
+                    Some(crate::visibility::Visibility::new(m)),
+                ),
                 BodyGeometry::Cloud(c) => (
                     d,
                     every_kth(&c.positions, opts.report_samples),
                     c.positions.len(),
+                    None,
                 ),
             }
         });
@@ -194,16 +200,17 @@ pub(super) fn measure_with(
     });
     let in_d = model_dist.distances(&input_samples);
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
-    let hidden_flags: Vec<bool> = match body {
-        BodyGeometry::Mesh(m) => {
-            let vis = crate::visibility::Visibility::new(m);
-            in_d.iter()
-                .zip(&input_samples)
-                .map(|(d, p)| *d * mm > opts.coverage_mm && vis.hidden(*p))
-                .collect()
+    // Only the uncovered samples are tested (over the cores).
+    let mut hidden_flags = vec![false; in_d.len()];
+    if let Some(vis) = &vis {
+        let far: Vec<usize> = (0..in_d.len())
+            .filter(|&i| in_d[i] * mm > opts.coverage_mm)
+            .collect();
+        let points: Vec<Point3> = far.iter().map(|&i| input_samples[i]).collect();
+        for (&i, h) in far.iter().zip(vis.hidden_all(&points)) {
+            hidden_flags[i] = h;
         }
-        BodyGeometry::Cloud(_) => vec![false; in_d.len()],
-    };
+    }
     let hidden = hidden_flags.iter().filter(|&&h| h).count();
     let visible_in: Vec<Real> = in_d
         .iter()

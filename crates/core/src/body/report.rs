@@ -150,25 +150,32 @@ pub(super) fn measure_with(
         target_edge: Some(opts.report_edge * model.height),
         ..TessellationOptions::default()
     };
-    // The parts tessellated over the cores, then the transitions, joined
-    // in order (as `Body::tessellate`).
-    let meshes = parallel_map(&model.parts, 1, |run| {
+    // The parts and the transitions tessellated over the cores, joined in
+    // order (as `Body::tessellate`: the parts, then the transitions).
+    let edge = opts.report_edge * model.height;
+    enum Piece<'b> {
+        Part(&'b BodyPart),
+        Transition(&'b BodyTransition),
+    }
+    let pieces: Vec<Piece> = (model.parts.iter().map(Piece::Part))
+        .chain(model.transitions.iter().map(Piece::Transition))
+        .collect();
+    let meshes = parallel_map(&pieces, 1, |run| {
         run.iter()
-            .map(|p| {
-                tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
-                    part: p.name,
-                    source,
-                })
+            .map(|piece| match piece {
+                Piece::Part(p) => {
+                    tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
+                        part: p.name,
+                        source,
+                    })
+                }
+                Piece::Transition(t) => Ok(t.transition.tessellate_edge(edge)),
             })
             .collect()
     });
     let mut surface = Mesh::default();
     for m in meshes {
         append_mesh(&mut surface, &m?);
-    }
-    for t in &model.transitions {
-        let edge = opts.report_edge * model.height;
-        append_mesh(&mut surface, &t.transition.tessellate_edge(edge));
     }
     let model_samples = sample_surface(&surface, opts.report_samples);
     // Model -> input while the model's hierarchy is built (two cores).

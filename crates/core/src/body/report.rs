@@ -253,13 +253,17 @@ pub(super) fn measure_with(
 /// cells outward until the shell's inner distance exceeds the best found.
 #[derive(Debug)]
 pub struct PointGrid<'a> {
-    points: &'a [Point3],
+    /// The grid copies the points it indexes ([`PointGrid::new`]'s `points`
+    /// stay borrowed for the API's sake).
+    points: std::marker::PhantomData<&'a [Point3]>,
     cell: Real,
     origin: Point3,
     dims: [usize; 3],
-    /// Start of each cell's run in `order` (prefix sums, length cells + 1).
+    /// Start of each cell's run in `sorted` (prefix sums, length cells + 1).
     starts: Vec<u32>,
-    order: Vec<u32>,
+    /// The finite points cell by cell (a cell's points side by side in
+    /// memory).
+    sorted: Vec<Point3>,
 }
 
 impl<'a> PointGrid<'a> {
@@ -293,12 +297,12 @@ impl<'a> PointGrid<'a> {
         ];
         let n = dims[0] * dims[1] * dims[2];
         let mut grid = PointGrid {
-            points,
+            points: std::marker::PhantomData,
             cell,
             origin: lo,
             dims,
             starts: vec![0; n + 1],
-            order: Vec::new(),
+            sorted: Vec::new(),
         };
         let keys: Vec<Option<usize>> = points
             .iter()
@@ -311,10 +315,10 @@ impl<'a> PointGrid<'a> {
             grid.starts[i + 1] += grid.starts[i];
         }
         let mut fill = grid.starts.clone();
-        grid.order = vec![0; grid.starts[n] as usize];
-        for (i, k) in keys.iter().enumerate() {
+        grid.sorted = vec![Vec3::ZERO; grid.starts[n] as usize];
+        for (p, k) in points.iter().zip(&keys) {
             if let Some(k) = k {
-                grid.order[fill[*k] as usize] = i as u32;
+                grid.sorted[fill[*k] as usize] = *p;
                 fill[*k] += 1;
             }
         }
@@ -350,16 +354,19 @@ impl<'a> PointGrid<'a> {
         })
     }
 
-    /// The distance from `p` to the nearest point and its index, starting
-    /// from point `seed` (its distance bounds the search; it is the answer
-    /// unless a point lies strictly closer).
+    /// The distance from `p` to the nearest point and that point's index
+    /// in the grid's order, starting from the point of index `seed` (its
+    /// distance bounds the search; it is the answer unless a point lies
+    /// strictly closer). Squared distances are compared and the square
+    /// root taken once (the same number: the root is monotone and
+    /// correctly rounded).
     fn nearest_from(&self, p: Point3, seed: Option<u32>) -> (Real, Option<u32>) {
-        if self.order.is_empty() || !p.is_finite() {
+        if self.sorted.is_empty() || !p.is_finite() {
             return (Real::INFINITY, None);
         }
-        let seed = seed.filter(|&i| self.points.get(i as usize).is_some_and(|q| q.is_finite()));
-        let (mut best, mut best_i) = match seed {
-            Some(i) => (self.points[i as usize].distance(p), Some(i)),
+        let seed = seed.filter(|&i| (i as usize) < self.sorted.len());
+        let (mut best2, mut best_i) = match seed {
+            Some(i) => ((self.sorted[i as usize] - p).norm_squared(), Some(i)),
             None => (Real::INFINITY, None),
         };
         let c = self.coords(p);
@@ -387,7 +394,7 @@ impl<'a> PointGrid<'a> {
         for r in 0..=maxr {
             // Every point in shell r is at least (r - 1) cells from q.
             let inner = ((r - 1).max(0) as Real) * self.cell;
-            if best.is_finite() && (outside2 + inner * inner).sqrt() > best {
+            if best2.is_finite() && outside2 + inner * inner > best2 {
                 break;
             }
             for dz in -r..=r {
@@ -409,23 +416,23 @@ impl<'a> PointGrid<'a> {
                             (lo.y - p.y).max(0.0).max(p.y - hi.y),
                             (lo.z - p.z).max(0.0).max(p.z - hi.z),
                         );
-                        if gap.norm_squared() >= best * best {
+                        if gap.norm_squared() >= best2 {
                             continue;
                         }
                         let k = self.key(q);
-                        for &i in &self.order[self.starts[k] as usize..self.starts[k + 1] as usize]
-                        {
-                            let d = self.points[i as usize].distance(p);
-                            if d < best {
-                                best = d;
-                                best_i = Some(i);
+                        let (a, b) = (self.starts[k] as usize, self.starts[k + 1] as usize);
+                        for (i, x) in (a..b).zip(&self.sorted[a..b]) {
+                            let d2 = (*x - p).norm_squared();
+                            if d2 < best2 {
+                                best2 = d2;
+                                best_i = Some(i as u32);
                             }
                         }
                     }
                 }
             }
         }
-        (best, best_i)
+        (best2.sqrt(), best_i)
     }
 }
 

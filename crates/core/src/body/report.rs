@@ -1,7 +1,7 @@
 //! The [`Report`]: how well and how compactly a [`Body`] fits its input.
 
 use super::*;
-use crate::distance::{coherent_map, parallel_map};
+use crate::distance::coherent_map;
 
 /// Per-part numbers of the [`Report`].
 #[derive(Clone, Debug, PartialEq)]
@@ -112,6 +112,42 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
         .collect()
 }
 
+/// `f` of every item, in order, the items taken one at a time by the
+/// cores as they come free (an atomic counter): items of very different
+/// cost (a torso and a transition) balance better than in fixed runs.
+fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let threads = cores.min(items.len());
+    if threads <= 1 {
+        return items.iter().map(f).collect();
+    }
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= items.len() {
+                return done;
+            }
+            done.push((i, f(&items[i])));
+        }
+    };
+    let mut all: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(&work)).collect();
+        let mut all = work();
+        for h in handles {
+            match h.join() {
+                Ok(part) => all.extend(part),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        all
+    });
+    all.sort_by_key(|(i, _)| *i);
+    all.into_iter().map(|(_, r)| r).collect()
+}
+
 /// Deterministic subsample of at most `n` items (every k-th).
 fn every_kth(points: &[Point3], n: usize) -> Vec<Point3> {
     let k = points.len().div_ceil(n.max(1)).max(1);
@@ -160,18 +196,14 @@ pub(super) fn measure_with(
     let pieces: Vec<Piece> = (model.parts.iter().map(Piece::Part))
         .chain(model.transitions.iter().map(Piece::Transition))
         .collect();
-    let meshes = parallel_map(&pieces, 1, |run| {
-        run.iter()
-            .map(|piece| match piece {
-                Piece::Part(p) => {
-                    tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
-                        part: p.name,
-                        source,
-                    })
-                }
-                Piece::Transition(t) => Ok(t.transition.tessellate_edge(edge)),
+    let meshes = each_on_cores(&pieces, |piece| match piece {
+        Piece::Part(p) => {
+            tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
+                part: p.name,
+                source,
             })
-            .collect()
+        }
+        Piece::Transition(t) => Ok(t.transition.tessellate_edge(edge)),
     });
     let mut surface = Mesh::default();
     for m in meshes {
@@ -438,6 +470,16 @@ impl<'a> PointGrid<'a> {
 
 #[cfg(test)]
 mod tests {
+    /// Work taken as the cores come free still comes back in order.
+    #[test]
+    fn each_on_cores_keeps_the_order() {
+        let items: Vec<u64> = (0..37).map(|i| (i * 7919) % 101).collect();
+        let slow = |&x: &u64| (0..x * 1000).fold(x, |a, k| a.wrapping_mul(31).wrapping_add(k));
+        let expected: Vec<u64> = items.iter().map(slow).collect();
+        assert_eq!(each_on_cores(&items, slow), expected);
+        assert!(each_on_cores(&[] as &[u64], slow).is_empty());
+    }
+
     use super::*;
 
     #[test]

@@ -358,14 +358,18 @@ impl Transition {
         let mut positions = Vec::with_capacity(around * (along + 1));
         let mut normals = Vec::with_capacity(around * (along + 1));
         let mut outward = 0.0;
-        for j in 0..=along {
-            let u = j as Real / along as Real;
+        // Points and derivatives on the whole grid at once (the same
+        // numbers as `point` and `normal` one by one).
+        let us: Vec<Real> = (0..=along).map(|j| j as Real / along as Real).collect();
+        let vs: Vec<Real> = (0..around)
+            .map(|i| TAU * i as Real / around as Real)
+            .collect();
+        let grid = self.patch.grid(&us, &vs);
+        for (j, &u) in us.iter().enumerate() {
             let c = self.patch.curve_at(u);
             let g = centre(&c);
-            for i in 0..around {
-                let v = TAU * i as Real / around as Real;
-                let p = self.patch.point(u, v);
-                let n = self.patch.normal(u, v).unwrap_or(Vec3::ZERO);
+            for &[p, du, dv] in &grid[j * around..(j + 1) * around] {
+                let n = dv.cross(du).normalized().unwrap_or(Vec3::ZERO);
                 outward += (p - g).dot(n);
                 positions.push(p);
                 normals.push(n);
@@ -412,17 +416,13 @@ impl Transition {
             p.windows(2).map(|w| w[0].distance(w[1])).sum::<Real>()
         };
         let around_len = perimeter(&self.p0).max(perimeter(&self.p1));
+        let us: Vec<Real> = (0..=samples).map(|k| k as Real / samples as Real).collect();
+        let vs: Vec<Real> = (0..16).map(|i| TAU * i as Real / 16.0).collect();
+        let grid = self.patch.grid(&us, &vs);
         let along_len = (0..16)
             .map(|i| {
-                let v = TAU * i as Real / 16.0;
                 (0..samples)
-                    .map(|k| {
-                        let (a, b) = (
-                            k as Real / samples as Real,
-                            (k + 1) as Real / samples as Real,
-                        );
-                        self.patch.point(a, v).distance(self.patch.point(b, v))
-                    })
+                    .map(|k| grid[k * 16 + i][0].distance(grid[(k + 1) * 16 + i][0]))
                     .sum::<Real>()
             })
             .fold(0.0, Real::max);

@@ -209,12 +209,12 @@ pub(super) fn measure_with(
     for m in meshes {
         append_mesh(&mut surface, &m?);
     }
-    let model_samples = sample_surface(&surface, opts.report_samples);
-    // Model -> input while the model's hierarchy is built (two cores).
-    // The input mesh's ray-casting hierarchy (for the hidden samples) is
-    // built on that side too.
+    // Model -> input (sampling the model included) while the model's
+    // hierarchy is built (two cores). The input mesh's ray-casting
+    // hierarchy (for the hidden samples) is built on that side too.
     let ((out_d, input_samples, input_count, vis), model_dist) = std::thread::scope(|scope| {
         let out = scope.spawn(|| {
+            let model_samples = sample_surface(&surface, opts.report_samples);
             let d = input.distances(&model_samples);
             match body {
                 BodyGeometry::Mesh(m) => (

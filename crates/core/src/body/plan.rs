@@ -674,7 +674,8 @@ pub(super) fn refine(
         let fresh: Vec<usize> = (0..cuts.len() - 1)
             .filter(|&i| {
                 let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
-                t1 - t0 >= 2.0 * min_step && !candidates.contains_key(&key(&cuts[i], &cuts[i + 1]))
+                !(t1 - t0 < 2.0 * min_step)
+                    && !candidates.contains_key(&key(&cuts[i], &cuts[i + 1]))
             })
             .collect();
         let found: Vec<Option<Cut>> = parallel_map(&fresh, 4, |run| {

@@ -360,6 +360,45 @@ impl Patch {
         self.derivative(u, v, 0, 1)
     }
 
+    /// The point, `∂t/∂u` and `∂t/∂v` at every `(us[j], vs[i])`, row by
+    /// row (`out[j * vs.len() + i]`). The coefficient curves are evaluated
+    /// once per `v` (they do not depend on `u`) and combined for each `u`
+    /// by the same sums in the same order as [`Patch::point`],
+    /// [`Patch::du`] and [`Patch::dv`]: the same numbers, at a fraction of
+    /// the trigonometric work.
+    pub fn grid(&self, us: &[Real], vs: &[Real]) -> Vec<[Vec3; 3]> {
+        let terms = self.f.len();
+        // Per v: f_m(v) and f_m'(v) for every m.
+        let columns: Vec<(Vec<Vec3>, Vec<Vec3>)> = vs
+            .iter()
+            .map(|&v| {
+                (
+                    self.f.iter().map(|c| c.derivative(v, 0)).collect(),
+                    self.f.iter().map(|c| c.derivative(v, 1)).collect(),
+                )
+            })
+            .collect();
+        let mut out = Vec::with_capacity(us.len() * vs.len());
+        for &u in us {
+            let w0: Vec<Real> = (0..terms).map(|m| power_derivative(u, m, 0)).collect();
+            let w1: Vec<Real> = (0..terms).map(|m| power_derivative(u, m, 1)).collect();
+            for (f0, f1) in &columns {
+                let (mut p, mut du, mut dv) = (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO);
+                for m in 0..terms {
+                    p += f0[m] * w0[m];
+                }
+                for m in 1..terms {
+                    du += f0[m] * w1[m];
+                }
+                for m in 0..terms {
+                    dv += f1[m] * w0[m];
+                }
+                out.push([p, du, dv]);
+            }
+        }
+        out
+    }
+
     /// The unit normal `∂t/∂v × ∂t/∂u / |…|`: it points outward when the
     /// curves run counter-clockwise about the direction of increasing `u`
     /// (the convention of method.md §2). `None` where the surface is
@@ -469,6 +508,27 @@ mod tests {
             assert!((fuv - p.derivative(u, v, 1, 1)).norm() < 1e-6);
             let c = p.u_derivative_curve(u, 1);
             assert!((c.point(v) - p.du(u, v)).norm() < 1e-12);
+        }
+    }
+
+    /// The grid evaluation gives exactly the pointwise numbers.
+    #[test]
+    fn grid_is_the_pointwise_evaluation() {
+        let (p0, t0, p1, t1) = (
+            curve(0.0, 1.0, 2),
+            curve(1.0, 2.0, 3),
+            curve(0.3, 3.0, 2),
+            curve(0.5, 4.0, 1),
+        );
+        let p = Patch::hermite(&p0, &t0, &p1, &t1).unwrap();
+        let us: Vec<Real> = (0..=7).map(|j| j as Real / 7.0).collect();
+        let vs: Vec<Real> = (0..11).map(|i| i as Real * 0.57).collect();
+        let g = p.grid(&us, &vs);
+        assert_eq!(g.len(), us.len() * vs.len());
+        for (j, &u) in us.iter().enumerate() {
+            for (i, &v) in vs.iter().enumerate() {
+                assert_eq!(g[j * vs.len() + i], [p.point(u, v), p.du(u, v), p.dv(u, v)]);
+            }
         }
     }
 

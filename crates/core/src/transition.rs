@@ -358,14 +358,18 @@ impl Transition {
         let mut positions = Vec::with_capacity(around * (along + 1));
         let mut normals = Vec::with_capacity(around * (along + 1));
         let mut outward = 0.0;
-        for j in 0..=along {
-            let u = j as Real / along as Real;
+        // Points and derivatives on the whole grid at once (the same
+        // numbers as `point` and `normal` one by one).
+        let us: Vec<Real> = (0..=along).map(|j| j as Real / along as Real).collect();
+        let vs: Vec<Real> = (0..around)
+            .map(|i| TAU * i as Real / around as Real)
+            .collect();
+        let grid = self.patch.grid(&us, &vs);
+        for (j, &u) in us.iter().enumerate() {
             let c = self.patch.curve_at(u);
             let g = centre(&c);
-            for i in 0..around {
-                let v = TAU * i as Real / around as Real;
-                let p = self.patch.point(u, v);
-                let n = self.patch.normal(u, v).unwrap_or(Vec3::ZERO);
+            for &[p, du, dv] in &grid[j * around..(j + 1) * around] {
+                let n = dv.cross(du).normalized().unwrap_or(Vec3::ZERO);
                 outward += (p - g).dot(n);
                 positions.push(p);
                 normals.push(n);
@@ -412,17 +416,13 @@ impl Transition {
             p.windows(2).map(|w| w[0].distance(w[1])).sum::<Real>()
         };
         let around_len = perimeter(&self.p0).max(perimeter(&self.p1));
+        let us: Vec<Real> = (0..=samples).map(|k| k as Real / samples as Real).collect();
+        let vs: Vec<Real> = (0..16).map(|i| TAU * i as Real / 16.0).collect();
+        let grid = self.patch.grid(&us, &vs);
         let along_len = (0..16)
             .map(|i| {
-                let v = TAU * i as Real / 16.0;
                 (0..samples)
-                    .map(|k| {
-                        let (a, b) = (
-                            k as Real / samples as Real,
-                            (k + 1) as Real / samples as Real,
-                        );
-                        self.patch.point(a, v).distance(self.patch.point(b, v))
-                    })
+                    .map(|k| grid[k * 16 + i][0].distance(grid[(k + 1) * 16 + i][0]))
                     .sum::<Real>()
             })
             .fold(0.0, Real::max);
@@ -433,36 +433,92 @@ impl Transition {
 
 /// Chooses the magnitudes on [`MAGNITUDE_GRID`] × `d` (`d` the distance
 /// between the boundary curves' centres) minimizing the mean squared
-/// `distance` from 8 × 32 surface points strictly between the curves, over
+/// distance from 8 × 32 surface points strictly between the curves, over
 /// the whole grid (coordinate descent stalls in the diagonal valleys where
-/// one magnitude makes up for the other).
+/// one magnitude makes up for the other); the first candidate of least
+/// score in the grid's order wins. `distances` maps a batch of points to
+/// their distances from the input.
+///
+/// The search is exact but prunes: every candidate's middle row of points
+/// is measured first (one batch), then the candidates are visited in
+/// order of that row's sum, each adding its other rows (middle out) until
+/// the partial sum exceeds the best full sum so far by more than a
+/// rounding margin (`1e-9` relative; the rounding of 256 non-negative
+/// terms is below `256 ε`), so it cannot win. A candidate measured in
+/// full is scored by its sum in row order, as without pruning.
 pub fn fit_magnitudes(
     curves: &[SpaceCurve; 4],
-    distance: &dyn Fn(Point3) -> Real,
+    distances: &dyn Fn(&[Point3]) -> Vec<Real>,
 ) -> Result<[Real; 2], TransitionError> {
+    const ROWS: usize = 8;
+    const AROUND: usize = 32;
+    // Rows (j = 1..=8 at u = j / 9) middle out.
+    const VISIT: [usize; ROWS] = [4, 5, 3, 6, 2, 7, 1, 8];
     let [p0, t0, p1, t1] = curves;
     let d = centre(p0).distance(centre(p1));
     if !(d > 0.0) {
         return Err(TransitionError::BadMagnitudes(d, d));
     }
-    let mut best = (Real::INFINITY, [d, d]);
-    for a in MAGNITUDE_GRID {
-        for b in MAGNITUDE_GRID {
-            let patch = Patch::hermite(p0, &scale(t0, a * d), p1, &scale(t1, b * d))?;
-            let mut sum = 0.0;
-            for j in 1..=8 {
-                let c = patch.curve_at(j as Real / 9.0);
-                for i in 0..32 {
-                    sum += distance(c.point(TAU * i as Real / 32.0)).powi(2);
-                }
+    let grid: Vec<[Real; 2]> = MAGNITUDE_GRID
+        .iter()
+        .flat_map(|&a| MAGNITUDE_GRID.iter().map(move |&b| [a, b]))
+        .collect();
+    let patches = grid
+        .iter()
+        .map(|&[a, b]| Patch::hermite(p0, &scale(t0, a * d), p1, &scale(t1, b * d)))
+        .collect::<Result<Vec<Patch>, PatchError>>()?;
+    let row = |patch: &Patch, j: usize| -> Vec<Point3> {
+        let c = patch.curve_at(j as Real / (ROWS + 1) as Real);
+        (0..AROUND)
+            .map(|i| c.point(TAU * i as Real / AROUND as Real))
+            .collect()
+    };
+    // rows[k][j - 1]: candidate k's squared distances of row j, once
+    // measured.
+    let mut rows: Vec<Vec<Option<Vec<Real>>>> = vec![vec![None; ROWS]; grid.len()];
+    let first: Vec<Point3> = patches.iter().flat_map(|p| row(p, VISIT[0])).collect();
+    for (k, e) in distances(&first).chunks(AROUND).enumerate() {
+        rows[k][VISIT[0] - 1] = Some(e.iter().map(|e| e.powi(2)).collect());
+    }
+    let row_sum = |r: &[Real]| r.iter().fold(0.0, |s: Real, e| s + e);
+    let mut visit: Vec<(Real, usize)> = rows
+        .iter()
+        .enumerate()
+        .map(|(k, r)| (r[VISIT[0] - 1].as_deref().map_or(0.0, row_sum), k))
+        .collect();
+    visit.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    // (full sum, candidate)
+    let mut best: Option<(Real, usize)> = None;
+    for &(partial0, k) in &visit {
+        let mut partial = partial0;
+        let mut pruned = false;
+        for &j in &VISIT[1..] {
+            if best.is_some_and(|(b, _)| partial > b * (1.0 + 1e-9)) {
+                pruned = true;
+                break;
             }
-            let score = sum / (8 * 32) as Real;
-            if score < best.0 {
-                best = (score, [a * d, b * d]);
+            let e: Vec<Real> = distances(&row(&patches[k], j))
+                .iter()
+                .map(|e| e.powi(2))
+                .collect();
+            partial += row_sum(&e);
+            rows[k][j - 1] = Some(e);
+        }
+        if pruned || best.is_some_and(|(b, _)| partial > b * (1.0 + 1e-9)) {
+            continue;
+        }
+        // All rows measured: the sum in row order.
+        let mut sum = 0.0;
+        for r in &rows[k] {
+            for &e in r.as_deref().unwrap_or(&[]) {
+                sum += e;
             }
         }
+        if sum < Real::INFINITY && best.is_none_or(|(b, bk)| sum < b || (sum == b && k < bk)) {
+            best = Some((sum, k));
+        }
     }
-    Ok(best.1)
+    Ok(best.map_or([d, d], |(_, k)| [grid[k][0] * d, grid[k][1] * d]))
 }
 
 #[cfg(test)]
@@ -603,11 +659,69 @@ mod tests {
             (q.x * q.x + q.y * q.y).sqrt()
         };
         let dist = |p: Point3| ((p.x * p.x + p.y * p.y).sqrt() - radius_at(p.z)).abs();
-        let m = fit_magnitudes(&[p0, t0, p1, t1], &dist).unwrap();
+        let batch = |pts: &[Point3]| pts.iter().map(|&p| dist(p)).collect();
+        let m = fit_magnitudes(&[p0, t0, p1, t1], &batch).unwrap();
         assert!(
             (m[0] - 0.5).abs() < 1e-12 && (m[1] - 1.5).abs() < 1e-12,
             "{m:?}"
         );
+    }
+
+    /// The pruned search picks exactly the candidate a plain scan of the
+    /// whole grid in order picks (first least mean square), for targets
+    /// with their best anywhere on the grid, ties and flat distances.
+    #[test]
+    fn pruned_magnitude_search_matches_the_full_scan() {
+        let p0 = circle(0.0, 0.1).world_series();
+        let p1 = circle(1.0, 0.15).world_series();
+        let flare = |radial: Real| {
+            let mut t = scale(&p0, radial);
+            t.x.c[0] = 0.0;
+            t.y.c[0] = 0.0;
+            t.z.c = vec![1.0, 0.0, 0.0];
+            t
+        };
+        let curves = [p0.clone(), flare(0.7), p1.clone(), flare(-0.4)];
+        let full = |dist: &dyn Fn(Point3) -> Real| {
+            let [p0, t0, p1, t1] = &curves;
+            let d = centre(p0).distance(centre(p1));
+            let mut best = (Real::INFINITY, [d, d]);
+            for a in MAGNITUDE_GRID {
+                for b in MAGNITUDE_GRID {
+                    let patch =
+                        Patch::hermite(p0, &scale(t0, a * d), p1, &scale(t1, b * d)).unwrap();
+                    let mut sum = 0.0;
+                    for j in 1..=8 {
+                        let c = patch.curve_at(j as Real / 9.0);
+                        for i in 0..32 {
+                            sum += dist(c.point(TAU * i as Real / 32.0)).powi(2);
+                        }
+                    }
+                    let score = sum / 256.0;
+                    if score < best.0 {
+                        best = (score, [a * d, b * d]);
+                    }
+                }
+            }
+            best.1
+        };
+        let targets: Vec<Box<dyn Fn(Point3) -> Real>> = vec![
+            // Cylinders of several radii, a cone, a wavy tube, a plane,
+            // a constant (every candidate ties: the first wins).
+            Box::new(|p: Point3| ((p.x * p.x + p.y * p.y).sqrt() - 0.12).abs()),
+            Box::new(|p: Point3| ((p.x * p.x + p.y * p.y).sqrt() - 0.3).abs()),
+            Box::new(|p: Point3| ((p.x * p.x + p.y * p.y).sqrt() - 0.05 - 0.2 * p.z).abs()),
+            Box::new(|p: Point3| {
+                ((p.x * p.x + p.y * p.y).sqrt() - 0.1 - 0.05 * (9.0 * p.z).sin()).abs()
+            }),
+            Box::new(|p: Point3| (p.x - 0.02).abs()),
+            Box::new(|_| 0.25),
+        ];
+        for (n, dist) in targets.iter().enumerate() {
+            let batch = |pts: &[Point3]| pts.iter().map(|&p| dist(p)).collect();
+            let m = fit_magnitudes(&curves, &batch).unwrap();
+            assert_eq!(m, full(dist.as_ref()), "target {n}");
+        }
     }
 
     /// A seam splits a wide ellipse into halves that meet on the seam,

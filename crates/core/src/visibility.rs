@@ -31,14 +31,17 @@ struct Node {
     count: usize,
     left: usize,
     right: usize,
+    /// The parent's index (the root's own).
+    parent: usize,
 }
 
 /// A ray-casting hierarchy over a mesh (see the module doc).
 #[derive(Debug)]
-pub struct Visibility<'m> {
-    mesh: &'m Mesh,
+pub struct Visibility {
     nodes: Vec<Node>,
-    order: Vec<usize>,
+    /// The triangles' corners in the leaves' order (`start..start + count`
+    /// of a leaf index this).
+    tris: Vec<[Point3; 3]>,
     eps: Real,
     directions: Vec<Vec3>,
 }
@@ -111,9 +114,9 @@ fn ray_triangle(o: Point3, d: Vec3, [a, b, c]: [Point3; 3]) -> Option<Real> {
     Some(e2.dot(q) * inv)
 }
 
-impl<'m> Visibility<'m> {
+impl Visibility {
     /// The hierarchy over `mesh`'s triangles.
-    pub fn new(mesh: &'m Mesh) -> Visibility<'m> {
+    pub fn new(mesh: &Mesh) -> Visibility {
         let n = mesh.triangles.len();
         let bounds: Vec<Aabb> = (0..n).map(|t| tri_bounds(mesh, t)).collect();
         let mut order: Vec<usize> = (0..n).collect();
@@ -121,6 +124,7 @@ impl<'m> Visibility<'m> {
         if n > 0 {
             build(&bounds, &mut order, 0, n, &mut nodes);
         }
+        let tris = order.iter().map(|&t| mesh.triangle(t)).collect();
         let diag = mesh.bounds().map_or(1.0, |b| b.diagonal());
         let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
         let directions = (0..RAY_DIRECTIONS)
@@ -132,35 +136,39 @@ impl<'m> Visibility<'m> {
             })
             .collect();
         Visibility {
-            mesh,
             nodes,
-            order,
+            tris,
             eps: 1e-6 * diag,
             directions,
         }
     }
 
-    /// True when the ray from `o` along `d` hits a triangle at `t > ε`.
-    fn blocked(&self, o: Point3, d: Vec3) -> bool {
+    /// True when the ray from `o` along `d` hits triangle `k` (an index
+    /// into `tris`) at `t > ε`.
+    fn hits(&self, o: Point3, d: Vec3, k: usize) -> bool {
+        ray_triangle(o, d, self.tris[k]).is_some_and(|h| h > self.eps)
+    }
+
+    /// The leaf, under node `root`, holding a triangle the ray from `o`
+    /// along `d` hits at `t > ε`, if any.
+    fn blocker(&self, o: Point3, d: Vec3, root: usize) -> Option<usize> {
         if self.nodes.is_empty() {
-            return false;
+            return None;
         }
         let inv = Vec3::new(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
-        if ray_box(&self.nodes[0].bounds, o, inv, Real::INFINITY).is_none() {
-            return false;
-        }
+        ray_box(&self.nodes[root].bounds, o, inv, Real::INFINITY)?;
         // Median splits keep the depth near log2(triangles / 4): a fixed
         // stack of 64 is far more than a mesh of 2^32 triangles needs.
         let mut stack = [0usize; 64];
+        stack[0] = root;
         let mut top = 1;
         while top > 0 {
             top -= 1;
-            let node = &self.nodes[stack[top]];
+            let index = stack[top];
+            let node = &self.nodes[index];
             if node.count > 0 {
-                for &t in &self.order[node.start..node.start + node.count] {
-                    if ray_triangle(o, d, self.mesh.triangle(t)).is_some_and(|h| h > self.eps) {
-                        return true;
-                    }
+                if (node.start..node.start + node.count).any(|k| self.hits(o, d, k)) {
+                    return Some(index);
                 }
             } else {
                 // Nearer child on top: a hidden point's rays meet the
@@ -189,14 +197,110 @@ impl<'m> Visibility<'m> {
                 }
             }
         }
-        false
+        None
     }
 
     /// True when no ray from `p` escapes (see the module doc).
     pub fn hidden(&self, p: Point3) -> bool {
-        self.directions.iter().all(|&d| self.blocked(p, d))
+        self.escape(p, 0, &mut Blockers::default()).is_none()
+    }
+
+    /// The index of a direction whose ray from `p` escapes, trying the
+    /// directions from `first` on (cyclically), or `None` when `p` is
+    /// hidden. Each direction's ray first searches the subtree (about
+    /// `4 · 2^CACHE_LEVELS` triangles: the blocking leaf's ancestor
+    /// [`CACHE_LEVELS`] up) that blocked that direction last (`cache`): any
+    /// hit blocks the ray, so a nearby point's blocking wall settles most
+    /// rays of a hidden point without a search from the root. The answer
+    /// does not depend on `first` or `cache`; only the work does: one
+    /// escaping ray ends the test, so starting from the direction that let
+    /// a nearby point out usually costs one ray.
+    pub fn escape(&self, p: Point3, first: usize, cache: &mut Blockers) -> Option<usize> {
+        let n = self.directions.len();
+        cache.0.resize(n, None);
+        (0..n).map(|i| (first + i) % n).find(|&i| {
+            let d = self.directions[i];
+            if cache.0[i].is_some_and(|node| self.blocker(p, d, node as usize).is_some()) {
+                return false;
+            }
+            match self.blocker(p, d, 0) {
+                Some(mut leaf) => {
+                    for _ in 0..CACHE_LEVELS {
+                        leaf = self.nodes[leaf].parent;
+                    }
+                    cache.0[i] = Some(leaf as u32);
+                    false
+                }
+                None => true,
+            }
+        })
+    }
+
+    /// [`Visibility::hidden`] for every point, over the cores. The points
+    /// are visited in Morton order (neighbours one after another), in
+    /// blocks of [`BLOCK`] dealt to the cores in turn (hidden points
+    /// gather in a few places: dealing spreads them); each core starts
+    /// every point's rays from the direction that let its previous point
+    /// out, and each ray from the triangle that blocked that direction for
+    /// a previous point ([`Visibility::escape`]).
+    pub fn hidden_all(&self, points: &[Point3]) -> Vec<bool> {
+        let order = crate::distance::morton_sort(points).0;
+        let blocks: Vec<&[u32]> = order.chunks(BLOCK).collect();
+        let cores = std::thread::available_parallelism()
+            .map_or(1, |c| c.get().min(8))
+            .min(blocks.len())
+            .max(1);
+        let run = |core: usize| {
+            let (mut first, mut cache) = (0, Blockers::default());
+            let mut out = Vec::new();
+            for block in blocks.iter().skip(core).step_by(cores) {
+                for &i in *block {
+                    let p = points[i as usize];
+                    let hidden = match self.escape(p, first, &mut cache) {
+                        Some(k) => {
+                            first = k;
+                            false
+                        }
+                        None => true,
+                    };
+                    out.push((i, hidden));
+                }
+            }
+            out
+        };
+        let answers: Vec<Vec<(u32, bool)>> = if cores == 1 {
+            vec![run(0)]
+        } else {
+            std::thread::scope(|scope| {
+                let run = &run;
+                let handles: Vec<_> = (0..cores).map(|c| scope.spawn(move || run(c))).collect();
+                handles
+                    .into_iter()
+                    .map(|h| match h.join() {
+                        Ok(a) => a,
+                        Err(panic) => std::panic::resume_unwind(panic),
+                    })
+                    .collect()
+            })
+        };
+        let mut hidden = vec![false; points.len()];
+        for (i, h) in answers.into_iter().flatten() {
+            hidden[i as usize] = h;
+        }
+        hidden
     }
 }
+
+/// Points per block in [`Visibility::hidden_all`].
+const BLOCK: usize = 32;
+
+/// How far above the blocking leaf [`Visibility::escape`]'s cache points.
+const CACHE_LEVELS: usize = 3;
+
+/// Per direction, the subtree that blocked its last ray (see
+/// [`Visibility::escape`]).
+#[derive(Clone, Debug, Default)]
+pub struct Blockers(Vec<Option<u32>>);
 
 fn build(
     bounds: &[Aabb],
@@ -220,6 +324,7 @@ fn build(
         count: end - start,
         left: 0,
         right: 0,
+        parent: index,
     });
     if end - start <= 4 {
         return index;
@@ -241,6 +346,8 @@ fn build(
     nodes[index].count = 0;
     nodes[index].left = left;
     nodes[index].right = right;
+    nodes[left].parent = index;
+    nodes[right].parent = index;
     index
 }
 
@@ -263,5 +370,23 @@ mod tests {
         // Empty mesh: nothing hides anything.
         let e = Mesh::default();
         assert!(!Visibility::new(&e).hidden(Vec3::ZERO));
+        // The batch (warm-started, over the cores) agrees with single
+        // tests, whatever direction each point starts from.
+        let pts: Vec<Point3> = (0..300)
+            .map(|i| {
+                let t = i as Real * 0.37;
+                Vec3::new(t.cos(), t.sin(), (t * 0.13).sin()) * (0.2 + (i % 7) as Real * 0.25)
+            })
+            .collect();
+        let single: Vec<bool> = pts.iter().map(|&p| v.hidden(p)).collect();
+        assert_eq!(v.hidden_all(&pts), single);
+        assert!(single.iter().any(|&h| h) && single.iter().any(|&h| !h));
+        for (k, &p) in pts.iter().enumerate().take(40) {
+            assert_eq!(
+                v.escape(p, k % RAY_DIRECTIONS, &mut Blockers::default())
+                    .is_none(),
+                single[k]
+            );
+        }
     }
 }

@@ -683,7 +683,7 @@ fn assemble(
     let Some(ti) = parts.iter().position(|p| p.name == PartName::Torso) else {
         return out;
     };
-    let distance = |p: Point3| input.distance(p);
+    let distance = |points: &[Point3]| input.distances(points);
     let build = |from: usize, spec: TransitionSpec, parts: &[BodyPart]| {
         let (f, t) = (&parts[from].part, &parts[ti].part);
         Transition::boundaries(f, t, &spec)
@@ -712,20 +712,33 @@ fn assemble(
         let mid = (leg_centre(legs[0]) + leg_centre(legs[1])) * 0.5;
         let point = mid + up * (crotch_level - mid.dot(up));
         let torso_order = parts[ti].part.curves()[0].order();
-        for &li in &legs {
-            let side = (leg_centre(li) - point).dot(seg.frame.left);
-            let spec = TransitionSpec {
-                from_start: true,
-                to_start: true,
-                magnitudes: [1.0, 1.0],
-                seam: Some(Seam {
-                    point,
-                    normal: seg.frame.left * side.signum(),
-                    up,
-                }),
-                order: torso_order.clamp(6, 16),
-            };
-            match build(li, spec, parts) {
+        let specs: Vec<(usize, TransitionSpec)> = legs
+            .iter()
+            .map(|&li| {
+                let side = (leg_centre(li) - point).dot(seg.frame.left);
+                let spec = TransitionSpec {
+                    from_start: true,
+                    to_start: true,
+                    magnitudes: [1.0, 1.0],
+                    seam: Some(Seam {
+                        point,
+                        normal: seg.frame.left * side.signum(),
+                        up,
+                    }),
+                    order: torso_order.clamp(6, 16),
+                };
+                (li, spec)
+            })
+            .collect();
+        // The two legs' transitions over the cores.
+        let shared: &[BodyPart] = parts;
+        let results = crate::distance::parallel_map(&specs, 1, |run| {
+            run.iter()
+                .map(|&(li, spec)| build(li, spec, shared))
+                .collect()
+        });
+        for (&(li, _), result) in specs.iter().zip(results) {
+            match result {
                 Ok(t) => out.push(t),
                 Err(e) => {
                     warnings.push(format!(

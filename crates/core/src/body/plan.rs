@@ -591,14 +591,6 @@ pub(super) enum InputDistance<'a> {
 }
 
 impl InputDistance<'_> {
-    /// The distance of one point.
-    pub(super) fn distance(&self, p: Point3) -> Real {
-        match self {
-            InputDistance::Mesh(m) => m.distance(p),
-            InputDistance::Cloud(g) => g.nearest(p),
-        }
-    }
-
     /// The distance of each point (see [`MeshDistance::distances`]).
     pub(super) fn distances(&self, points: &[Point3]) -> Vec<Real> {
         match self {
@@ -823,32 +815,65 @@ pub(super) fn refine(
     }
     let min_step = opts.min_spacing * seg.height / len;
     let tol = opts.refine_tolerance * seg.height;
+    // A halfway cut and its plausibility depend only on its interval's
+    // two cuts, so an interval kept in a round (not split) is not cut
+    // again the next round: its candidate (or its failure) is remembered,
+    // and only the stray test, against the new skin, is repeated.
+    let mut candidates: std::collections::HashMap<[u64; 4], Option<Cut>> =
+        std::collections::HashMap::new();
+    let key = |a: &Cut, b: &Cut| [a.at, b.at, a.area, b.area].map(Real::to_bits);
     for _ in 0..opts.refine_rounds {
         let segments = built.part.segments();
         if segments.len() + 1 != cuts.len() {
             break; // only for the one-patch-per-interval schemes
         }
         // The halfway cuts of one round are independent: split over the
-        // cores, kept in order.
-        let intervals: Vec<usize> = (0..cuts.len() - 1).collect();
-        let added: Vec<Cut> = parallel_map(&intervals, 4, |run| {
+        // cores.
+        let fresh: Vec<usize> = (0..cuts.len() - 1)
+            .filter(|&i| {
+                let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
+                !(t1 - t0 < 2.0 * min_step)
+                    && !candidates.contains_key(&key(&cuts[i], &cuts[i + 1]))
+            })
+            .collect();
+        let found: Vec<Option<Cut>> = parallel_map(&fresh, 4, |run| {
             run.iter()
-                .filter_map(|&i| {
+                .map(|&i| {
                     let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
-                    if t1 - t0 < 2.0 * min_step {
-                        return None;
-                    }
                     let c = cut_and_fit(cutter, name, 0.5 * (t0 + t1), opts).ok()?;
                     let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
                     let plausible =
                         c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
-                    (plausible
-                        && curve_offset(&c, input) <= far
-                        && stray(&c, &segments[i].patch.curve_at(0.5)) > tol)
-                        .then_some(c)
+                    (plausible && curve_offset(&c, input) <= far).then_some(c)
                 })
                 .collect()
         });
+        for (&i, c) in fresh.iter().zip(found) {
+            candidates.insert(key(&cuts[i], &cuts[i + 1]), c);
+        }
+        // The stray tests, in order, over the cores.
+        let intervals: Vec<usize> = (0..cuts.len() - 1)
+            .filter(|&i| {
+                candidates
+                    .get(&key(&cuts[i], &cuts[i + 1]))
+                    .is_some_and(Option::is_some)
+            })
+            .collect();
+        let split: Vec<bool> = parallel_map(&intervals, 4, |run| {
+            run.iter()
+                .map(|&i| {
+                    let c = candidates[&key(&cuts[i], &cuts[i + 1])].as_ref();
+                    c.is_some_and(|c| stray(c, &segments[i].patch.curve_at(0.5)) > tol)
+                })
+                .collect()
+        });
+        // A split interval never comes back (a cut now lies inside it).
+        let added: Vec<Cut> = intervals
+            .iter()
+            .zip(split)
+            .filter(|(_, s)| *s)
+            .filter_map(|(&i, _)| candidates.remove(&key(&cuts[i], &cuts[i + 1])).flatten())
+            .collect();
         if added.is_empty() {
             break;
         }

@@ -1,7 +1,7 @@
 //! The [`Report`]: how well and how compactly a [`Body`] fits its input.
 
 use super::*;
-use crate::distance::{coherent_map, parallel_map};
+use crate::distance::coherent_map;
 
 /// Per-part numbers of the [`Report`].
 #[derive(Clone, Debug, PartialEq)]
@@ -112,6 +112,42 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
         .collect()
 }
 
+/// `f` of every item, in order, the items taken one at a time by the
+/// cores as they come free (an atomic counter): items of very different
+/// cost (a torso and a transition) balance better than in fixed runs.
+fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let threads = cores.min(items.len());
+    if threads <= 1 {
+        return items.iter().map(f).collect();
+    }
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= items.len() {
+                return done;
+            }
+            done.push((i, f(&items[i])));
+        }
+    };
+    let mut all: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let mut all = work();
+        for h in handles {
+            match h.join() {
+                Ok(part) => all.extend(part),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        all
+    });
+    all.sort_by_key(|(i, _)| *i);
+    all.into_iter().map(|(_, r)| r).collect()
+}
+
 /// Deterministic subsample of at most `n` items (every k-th).
 fn every_kth(points: &[Point3], n: usize) -> Vec<Point3> {
     let k = points.len().div_ceil(n.max(1)).max(1);
@@ -150,39 +186,48 @@ pub(super) fn measure_with(
         target_edge: Some(opts.report_edge * model.height),
         ..TessellationOptions::default()
     };
-    // The parts tessellated over the cores, then the transitions, joined
-    // in order (as `Body::tessellate`).
-    let meshes = parallel_map(&model.parts, 1, |run| {
-        run.iter()
-            .map(|p| {
-                tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
-                    part: p.name,
-                    source,
-                })
+    // The parts and the transitions tessellated over the cores, joined in
+    // order (as `Body::tessellate`: the parts, then the transitions).
+    let edge = opts.report_edge * model.height;
+    enum Piece<'b> {
+        Part(&'b BodyPart),
+        Transition(&'b BodyTransition),
+    }
+    let pieces: Vec<Piece> = (model.parts.iter().map(Piece::Part))
+        .chain(model.transitions.iter().map(Piece::Transition))
+        .collect();
+    let meshes = each_on_cores(&pieces, |piece| match piece {
+        Piece::Part(p) => {
+            tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
+                part: p.name,
+                source,
             })
-            .collect()
+        }
+        Piece::Transition(t) => Ok(t.transition.tessellate_edge(edge)),
     });
     let mut surface = Mesh::default();
     for m in meshes {
         append_mesh(&mut surface, &m?);
     }
-    for t in &model.transitions {
-        let edge = opts.report_edge * model.height;
-        append_mesh(&mut surface, &t.transition.tessellate_edge(edge));
-    }
-    let model_samples = sample_surface(&surface, opts.report_samples);
-    // Model -> input while the model's hierarchy is built (two cores).
-    let ((out_d, input_samples, input_count), model_dist) = std::thread::scope(|scope| {
+    // Model -> input (sampling the model included) while the model's
+    // hierarchy is built (two cores). The input mesh's ray-casting
+    // hierarchy (for the hidden samples) is built on that side too.
+    let ((out_d, input_samples, input_count, vis), model_dist) = std::thread::scope(|scope| {
         let out = scope.spawn(|| {
+            let model_samples = sample_surface(&surface, opts.report_samples);
             let d = input.distances(&model_samples);
             match body {
-                BodyGeometry::Mesh(m) => {
-                    (d, sample_surface(m, opts.report_samples), m.positions.len())
-                }
+                BodyGeometry::Mesh(m) => (
+                    d,
+                    sample_surface(m, opts.report_samples),
+                    m.positions.len(),
+                    Some(crate::visibility::Visibility::new(m)),
+                ),
                 BodyGeometry::Cloud(c) => (
                     d,
                     every_kth(&c.positions, opts.report_samples),
                     c.positions.len(),
+                    None,
                 ),
             }
         });
@@ -194,16 +239,17 @@ pub(super) fn measure_with(
     });
     let in_d = model_dist.distances(&input_samples);
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
-    let hidden_flags: Vec<bool> = match body {
-        BodyGeometry::Mesh(m) => {
-            let vis = crate::visibility::Visibility::new(m);
-            in_d.iter()
-                .zip(&input_samples)
-                .map(|(d, p)| *d * mm > opts.coverage_mm && vis.hidden(*p))
-                .collect()
+    // Only the uncovered samples are tested (over the cores).
+    let mut hidden_flags = vec![false; in_d.len()];
+    if let Some(vis) = &vis {
+        let far: Vec<usize> = (0..in_d.len())
+            .filter(|&i| in_d[i] * mm > opts.coverage_mm)
+            .collect();
+        let points: Vec<Point3> = far.iter().map(|&i| input_samples[i]).collect();
+        for (&i, h) in far.iter().zip(vis.hidden_all(&points)) {
+            hidden_flags[i] = h;
         }
-        BodyGeometry::Cloud(_) => vec![false; in_d.len()],
-    };
+    }
     let hidden = hidden_flags.iter().filter(|&&h| h).count();
     let visible_in: Vec<Real> = in_d
         .iter()
@@ -239,13 +285,17 @@ pub(super) fn measure_with(
 /// cells outward until the shell's inner distance exceeds the best found.
 #[derive(Debug)]
 pub struct PointGrid<'a> {
-    points: &'a [Point3],
+    /// The grid copies the points it indexes ([`PointGrid::new`]'s `points`
+    /// stay borrowed for the API's sake).
+    points: std::marker::PhantomData<&'a [Point3]>,
     cell: Real,
     origin: Point3,
     dims: [usize; 3],
-    /// Start of each cell's run in `order` (prefix sums, length cells + 1).
+    /// Start of each cell's run in `sorted` (prefix sums, length cells + 1).
     starts: Vec<u32>,
-    order: Vec<u32>,
+    /// The finite points cell by cell (a cell's points side by side in
+    /// memory).
+    sorted: Vec<Point3>,
 }
 
 impl<'a> PointGrid<'a> {
@@ -279,12 +329,12 @@ impl<'a> PointGrid<'a> {
         ];
         let n = dims[0] * dims[1] * dims[2];
         let mut grid = PointGrid {
-            points,
+            points: std::marker::PhantomData,
             cell,
             origin: lo,
             dims,
             starts: vec![0; n + 1],
-            order: Vec::new(),
+            sorted: Vec::new(),
         };
         let keys: Vec<Option<usize>> = points
             .iter()
@@ -297,10 +347,10 @@ impl<'a> PointGrid<'a> {
             grid.starts[i + 1] += grid.starts[i];
         }
         let mut fill = grid.starts.clone();
-        grid.order = vec![0; grid.starts[n] as usize];
-        for (i, k) in keys.iter().enumerate() {
+        grid.sorted = vec![Vec3::ZERO; grid.starts[n] as usize];
+        for (p, k) in points.iter().zip(&keys) {
             if let Some(k) = k {
-                grid.order[fill[*k] as usize] = i as u32;
+                grid.sorted[fill[*k] as usize] = *p;
                 fill[*k] += 1;
             }
         }
@@ -336,16 +386,19 @@ impl<'a> PointGrid<'a> {
         })
     }
 
-    /// The distance from `p` to the nearest point and its index, starting
-    /// from point `seed` (its distance bounds the search; it is the answer
-    /// unless a point lies strictly closer).
+    /// The distance from `p` to the nearest point and that point's index
+    /// in the grid's order, starting from the point of index `seed` (its
+    /// distance bounds the search; it is the answer unless a point lies
+    /// strictly closer). Squared distances are compared and the square
+    /// root taken once (the same number: the root is monotone and
+    /// correctly rounded).
     fn nearest_from(&self, p: Point3, seed: Option<u32>) -> (Real, Option<u32>) {
-        if self.order.is_empty() || !p.is_finite() {
+        if self.sorted.is_empty() || !p.is_finite() {
             return (Real::INFINITY, None);
         }
-        let seed = seed.filter(|&i| self.points.get(i as usize).is_some_and(|q| q.is_finite()));
-        let (mut best, mut best_i) = match seed {
-            Some(i) => (self.points[i as usize].distance(p), Some(i)),
+        let seed = seed.filter(|&i| (i as usize) < self.sorted.len());
+        let (mut best2, mut best_i) = match seed {
+            Some(i) => ((self.sorted[i as usize] - p).norm_squared(), Some(i)),
             None => (Real::INFINITY, None),
         };
         let c = self.coords(p);
@@ -373,7 +426,7 @@ impl<'a> PointGrid<'a> {
         for r in 0..=maxr {
             // Every point in shell r is at least (r - 1) cells from q.
             let inner = ((r - 1).max(0) as Real) * self.cell;
-            if best.is_finite() && (outside2 + inner * inner).sqrt() > best {
+            if best2.is_finite() && outside2 + inner * inner > best2 {
                 break;
             }
             for dz in -r..=r {
@@ -395,28 +448,38 @@ impl<'a> PointGrid<'a> {
                             (lo.y - p.y).max(0.0).max(p.y - hi.y),
                             (lo.z - p.z).max(0.0).max(p.z - hi.z),
                         );
-                        if gap.norm_squared() >= best * best {
+                        if gap.norm_squared() >= best2 {
                             continue;
                         }
                         let k = self.key(q);
-                        for &i in &self.order[self.starts[k] as usize..self.starts[k + 1] as usize]
-                        {
-                            let d = self.points[i as usize].distance(p);
-                            if d < best {
-                                best = d;
-                                best_i = Some(i);
+                        let (a, b) = (self.starts[k] as usize, self.starts[k + 1] as usize);
+                        for (i, x) in (a..b).zip(&self.sorted[a..b]) {
+                            let d2 = (*x - p).norm_squared();
+                            if d2 < best2 {
+                                best2 = d2;
+                                best_i = Some(i as u32);
                             }
                         }
                     }
                 }
             }
         }
-        (best, best_i)
+        (best2.sqrt(), best_i)
     }
 }
 
 #[cfg(test)]
 mod tests {
+    /// Work taken as the cores come free still comes back in order.
+    #[test]
+    fn each_on_cores_keeps_the_order() {
+        let items: Vec<u64> = (0..37).map(|i| (i * 7919) % 101).collect();
+        let slow = |&x: &u64| (0..x * 1000).fold(x, |a, k| a.wrapping_mul(31).wrapping_add(k));
+        let expected: Vec<u64> = items.iter().map(slow).collect();
+        assert_eq!(each_on_cores(&items, slow), expected);
+        assert!(each_on_cores(&[] as &[u64], slow).is_empty());
+    }
+
     use super::*;
 
     #[test]

@@ -64,16 +64,7 @@ pub fn body_of_model_file(path: &Path) -> Result<Body> {
             model.units
         ))
     })?;
-    let names = [
-        PartName::Torso,
-        PartName::Head,
-        PartName::LeftArm,
-        PartName::RightArm,
-        PartName::LeftLeg,
-        PartName::RightLeg,
-        PartName::LeftFoot,
-        PartName::RightFoot,
-    ];
+    let names = PartName::ALL;
     let mut parts = Vec::with_capacity(model.parts.len());
     for p in model.parts {
         let name = names

@@ -34,7 +34,8 @@ pub struct Closest {
     pub triangle: usize,
 }
 
-fn tri_bounds(m: &Mesh, t: usize) -> Aabb {
+/// The bounding box of triangle `t`.
+pub(crate) fn tri_bounds(m: &Mesh, t: usize) -> Aabb {
     let [a, b, c] = m.triangle(t);
     Aabb {
         min: a.min(b).min(c),
@@ -42,7 +43,8 @@ fn tri_bounds(m: &Mesh, t: usize) -> Aabb {
     }
 }
 
-fn union(a: Aabb, b: Aabb) -> Aabb {
+/// The smallest box holding both.
+pub(crate) fn union(a: Aabb, b: Aabb) -> Aabb {
     Aabb {
         min: a.min.min(b.min),
         max: a.max.max(b.max),

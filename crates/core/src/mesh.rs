@@ -44,6 +44,48 @@ pub enum MeshError {
     NormalCount { normals: usize, positions: usize },
 }
 
+/// The layout of a uniform grid over the finite points of `points`:
+/// `(origin, cell, dims)`. The cell is `cell` (1 when that is not a
+/// positive number), grown so the grid has at most about `max_cells`
+/// cells; an input with no finite point gives a one-cell grid at the
+/// origin. Shared by the point grids of the report and of the cutter.
+pub(crate) fn grid_layout(
+    points: &[Point3],
+    cell: Real,
+    max_cells: Real,
+) -> (Point3, Real, [usize; 3]) {
+    let fin = || points.iter().filter(|p| p.is_finite());
+    let lo = fin().fold(
+        Vec3::new(Real::INFINITY, Real::INFINITY, Real::INFINITY),
+        |a, p| a.min(*p),
+    );
+    let hi = fin().fold(
+        Vec3::new(Real::NEG_INFINITY, Real::NEG_INFINITY, Real::NEG_INFINITY),
+        |a, p| a.max(*p),
+    );
+    let (lo, hi) = if lo.x <= hi.x {
+        (lo, hi)
+    } else {
+        (Vec3::ZERO, Vec3::ZERO)
+    };
+    let ext = hi - lo;
+    let mut cell = if cell.is_finite() && cell > 0.0 {
+        cell
+    } else {
+        1.0
+    };
+    let vol = (ext.x / cell + 1.0) * (ext.y / cell + 1.0) * (ext.z / cell + 1.0);
+    if vol > max_cells {
+        cell *= (vol / max_cells).cbrt();
+    }
+    let dims = [
+        (ext.x / cell) as usize + 1,
+        (ext.y / cell) as usize + 1,
+        (ext.z / cell) as usize + 1,
+    ];
+    (lo, cell, dims)
+}
+
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {

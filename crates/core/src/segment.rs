@@ -322,6 +322,20 @@ pub enum PartName {
     RightFoot,
 }
 
+impl PartName {
+    /// Every part, in the order [`segment`] reports them.
+    pub const ALL: [PartName; 8] = [
+        PartName::Torso,
+        PartName::Head,
+        PartName::LeftArm,
+        PartName::RightArm,
+        PartName::LeftLeg,
+        PartName::RightLeg,
+        PartName::LeftFoot,
+        PartName::RightFoot,
+    ];
+}
+
 impl fmt::Display for PartName {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let s = match self {
@@ -2608,35 +2622,7 @@ struct BallGrid {
 
 impl BallGrid {
     fn new(points: &[Point3], cell: Real) -> BallGrid {
-        let fin = || points.iter().filter(|p| p.is_finite());
-        let lo = fin().fold(
-            Vec3::new(Real::INFINITY, Real::INFINITY, Real::INFINITY),
-            |a, p| a.min(*p),
-        );
-        let hi = fin().fold(
-            Vec3::new(Real::NEG_INFINITY, Real::NEG_INFINITY, Real::NEG_INFINITY),
-            |a, p| a.max(*p),
-        );
-        let (lo, hi) = if lo.x <= hi.x {
-            (lo, hi)
-        } else {
-            (Vec3::ZERO, Vec3::ZERO)
-        };
-        let ext = hi - lo;
-        let mut cell = if cell.is_finite() && cell > 0.0 {
-            cell
-        } else {
-            1.0
-        };
-        let vol = (ext.x / cell + 1.0) * (ext.y / cell + 1.0) * (ext.z / cell + 1.0);
-        if vol > 2.0e6 {
-            cell *= (vol / 2.0e6).cbrt();
-        }
-        let dims = [
-            (ext.x / cell) as usize + 1,
-            (ext.y / cell) as usize + 1,
-            (ext.z / cell) as usize + 1,
-        ];
+        let (lo, cell, dims) = crate::mesh::grid_layout(points, cell, 2.0e6);
         let mut grid = BallGrid {
             origin: lo,
             cell,

@@ -16,6 +16,7 @@
 //! nearer child first, any hit ends the ray; Möller-Trumbore for
 //! triangles).
 
+use crate::distance::{tri_bounds, union};
 use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Aabb, Mesh};
 
@@ -44,21 +45,6 @@ pub struct Visibility {
     tris: Vec<[Point3; 3]>,
     eps: Real,
     directions: Vec<Vec3>,
-}
-
-fn tri_bounds(m: &Mesh, t: usize) -> Aabb {
-    let [a, b, c] = m.triangle(t);
-    Aabb {
-        min: a.min(b).min(c),
-        max: a.max(b).max(c),
-    }
-}
-
-fn union(a: Aabb, b: Aabb) -> Aabb {
-    Aabb {
-        min: a.min.min(b.min),
-        max: a.max.max(b.max),
-    }
 }
 
 /// The parameter where the ray `o + t d` enters the box (0 from inside),

@@ -85,16 +85,7 @@ const HEIGHTS: [(LandmarkKind, f64, f64); 10] = [
     (LandmarkKind::LeftSole, 0.0, 0.0),
 ];
 
-const ALL_PARTS: [PartName; 8] = [
-    PartName::Torso,
-    PartName::Head,
-    PartName::LeftArm,
-    PartName::RightArm,
-    PartName::LeftLeg,
-    PartName::RightLeg,
-    PartName::LeftFoot,
-    PartName::RightFoot,
-];
+const ALL_PARTS: [PartName; 8] = PartName::ALL;
 
 /// Everything a correct segmentation of these bodies shows.
 fn check_body(name: &str, s: &Segmentation) {

@@ -499,14 +499,9 @@ fn reconstruct_steps(
     } * seg.slice_spacing;
     let cutter = Cutter::new(body, &seg);
     let mut plans = Vec::new();
-    for name in [
-        PartName::Torso,
-        PartName::Head,
-        PartName::LeftArm,
-        PartName::RightArm,
-        PartName::LeftLeg,
-        PartName::RightLeg,
-    ] {
+    // Every part but the feet, which the legs cover (shoe ends).
+    let feet = [PartName::LeftFoot, PartName::RightFoot];
+    for name in PartName::ALL.into_iter().filter(|n| !feet.contains(n)) {
         let Some(axis) = seg.part(name) else {
             warnings.push(format!("{name} not found: left out of the model"));
             continue;

@@ -301,32 +301,7 @@ pub struct PointGrid<'a> {
 impl<'a> PointGrid<'a> {
     /// Builds the grid; `cell` is clamped so there are at most ~4M cells.
     pub fn new(points: &'a [Point3], cell: Real) -> PointGrid<'a> {
-        let fin = || points.iter().filter(|p| p.is_finite());
-        let mut lo = Vec3::new(Real::INFINITY, Real::INFINITY, Real::INFINITY);
-        let mut hi = -lo;
-        for p in fin() {
-            lo = Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z));
-            hi = Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z));
-        }
-        if !(lo.x <= hi.x) {
-            lo = Vec3::ZERO;
-            hi = Vec3::ZERO;
-        }
-        let ext = hi - lo;
-        let mut cell = if cell.is_finite() && cell > 0.0 {
-            cell
-        } else {
-            1.0
-        };
-        let vol = (ext.x / cell + 1.0) * (ext.y / cell + 1.0) * (ext.z / cell + 1.0);
-        if vol > 4.0e6 {
-            cell *= (vol / 4.0e6).cbrt();
-        }
-        let dims = [
-            (ext.x / cell) as usize + 1,
-            (ext.y / cell) as usize + 1,
-            (ext.z / cell) as usize + 1,
-        ];
+        let (lo, cell, dims) = crate::mesh::grid_layout(points, cell, 4.0e6);
         let n = dims[0] * dims[1] * dims[2];
         let mut grid = PointGrid {
             points: std::marker::PhantomData,

@@ -70,8 +70,10 @@
 //! surface area is `∬ |t_v × t_u|` over the same nodes, open ends not
 //! counted (they are joins).
 //!
-//! Parts are summed, then the overlap where an arm starts inside the
-//! torso's shoulder loops (the model has no transitions yet) is removed
+//! Parts and the transition bands between them (each closed the same way
+//! by its two boundary curves' cones, 6 Gauss points in `u`) are summed,
+//! then the overlap where an arm starts inside the torso's shoulder loops
+//! (there are no torso–arm transitions yet) is removed
 //! (see `arm_torso_overlap`): its volume by the arm's cross-section area
 //! inside the torso, its surface by inside tests of the quadrature nodes.
 //! Where the two skins nearly coincide (the top of the shoulder) the
@@ -829,7 +831,36 @@ pub fn volume_area_extent(body: &Body) -> (Real, Real, (Real, Real)) {
         out.2 .0 = out.2 .0.min(r.low);
         out.2 .1 = out.2 .1.max(r.high);
     }
+    for t in &body.transitions {
+        let (v, a) = transition_integrals(t.transition.patch(), up, &mut tables, &mut out.2);
+        out.0 += v;
+        out.1 += a;
+    }
     out
+}
+
+/// Volume and area of a transition band (a leg's top to its half of the
+/// torso's bottom): the band closed by the cones from its two boundary
+/// curves' mean points, as a part's open ends are closed (module doc). The
+/// band is one Hermite patch across the whole gap, so its `u` integral
+/// takes 6 Gauss points (as caps do). The torso side's cone over a half
+/// loop and its seam does not tile the torso's bottom cone exactly; the
+/// difference is a thin sliver under the crotch.
+fn transition_integrals(
+    patch: &Patch,
+    up: Vec3,
+    tables: &mut Tables,
+    ext: &mut (Real, Real),
+) -> (Real, Real) {
+    let (c0, c1) = (patch.curve_at(0.0), patch.curve_at(1.0));
+    let q = mean_point(&c0);
+    let (flux, area) = patch_integrals(patch, tables, &GL6, q, up, ext);
+    let mut disc = |c: &SpaceCurve| {
+        let t = tables.get(c.order());
+        (mean_point(c) - q).dot(t.vector_area(c, q))
+    };
+    let ends = disc(&c1) - disc(&c0);
+    (((flux + ends) / 3.0).abs(), area)
 }
 
 /// A torso's horizontal outlines at evenly spaced levels, for inside tests.
@@ -1411,6 +1442,41 @@ mod tests {
                 fits: Vec::new(),
             }],
         }
+    }
+
+    /// A transition between two coaxial cylinders of one radius, with the
+    /// gap as both magnitudes, is the missing piece of cylinder: its band
+    /// volume is `π r² gap` and its area `2π r gap`.
+    #[test]
+    fn a_cylinder_to_cylinder_transition_has_the_gap_s_volume_and_area() {
+        use crate::transition::{Transition, TransitionSpec};
+        let (r, gap) = (0.12, 0.2);
+        let cyl = |y0: Real, y1: Real| {
+            let curves: Vec<TrigCurve> = (0..4)
+                .map(|k| {
+                    let frame = Frame {
+                        origin: Vec3::new(0.1, y0 + (y1 - y0) * k as Real / 3.0, 0.3),
+                        e1: Vec3::Z,
+                        e2: Vec3::X,
+                    };
+                    TrigCurve::circle(frame, r, 3)
+                })
+                .collect();
+            Part::new(curves, &PartOptions::default()).unwrap()
+        };
+        let (a, b) = (cyl(0.0, 0.3), cyl(0.3 + gap, 0.8));
+        let spec = TransitionSpec {
+            from_start: false,
+            to_start: true,
+            magnitudes: [gap, gap],
+            seam: None,
+            order: 8,
+        };
+        let t = Transition::between(&a, &b, spec).unwrap();
+        let mut ext = (Real::INFINITY, Real::NEG_INFINITY);
+        let (v, area) = transition_integrals(t.patch(), Vec3::Y, &mut Tables::default(), &mut ext);
+        assert!((v / (PI * r * r * gap) - 1.0).abs() < 1e-9, "{v}");
+        assert!((area / (TAU * r * gap) - 1.0).abs() < 1e-9, "{area}");
     }
 
     #[test]

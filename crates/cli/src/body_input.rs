@@ -22,9 +22,9 @@ use trigbody_core::body::{Body, BodyPart, BodyTransition, Units};
 use trigbody_core::measure::{measure_mesh, MeasureOptions, Measurements};
 use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};
 use trigbody_core::segment::{BodyFrame, BodyGeometry, PartName};
-use trigbody_core::{tessellate_part, Mesh, ReconstructOptions, TessellationOptions};
+use trigbody_core::{Mesh, ReconstructOptions, TessellationOptions};
 use trigbody_io::body_file::part_file_name;
-use trigbody_io::model::{read_model, Model};
+use trigbody_io::model::{merge_pieces, read_model, Model};
 use trigbody_io::{Geometry, ReadOptions};
 
 /// Whether a path names a model file (`.json`).
@@ -159,29 +159,10 @@ pub fn drawable_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
         target_edge: model.body.map(|b| 0.003 * b.height),
         ..TessellationOptions::default()
     };
-    let mut merged = Mesh::default();
-    for p in &model.parts {
-        let m = tessellate_part(&p.part, &tess)
-            .map_err(|e| bad(format!("{file}: part '{}': {e}", p.name)))?;
-        let base = merged.positions.len() as u32;
-        merged.positions.extend(m.positions);
-        merged
-            .triangles
-            .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
-    // The transitions between parts (a body model's crotch and neck).
-    for t in &model.transitions {
-        let m = match tess.target_edge {
-            Some(e) => t.transition.tessellate_edge(e),
-            None => t.transition.tessellate(tess.around, tess.along),
-        };
-        let base = merged.positions.len() as u32;
-        merged.positions.extend(m.positions);
-        merged
-            .triangles
-            .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
-    Ok(merged)
+    let pieces = model
+        .tessellate_pieces(&tess)
+        .map_err(|e| bad(format!("{file}: {e}")))?;
+    Ok(merge_pieces(&pieces))
 }
 
 /// What a measurement was taken on.

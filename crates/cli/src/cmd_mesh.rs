@@ -5,9 +5,9 @@ use crate::output::{refuse_input, write_file};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use trigbody_core::{tessellate_part, Mesh, Real, TessellationOptions};
+use trigbody_core::{Real, TessellationOptions};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
-use trigbody_io::model::read_model;
+use trigbody_io::model::{merge_pieces, read_model};
 use trigbody_io::{write_mesh, Format, WriteOptions};
 
 /// Arguments of `trigbody mesh`.
@@ -33,24 +33,6 @@ pub struct MeshArgs {
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
-}
-
-/// All meshes in one (indices offset).
-fn merged(meshes: &[Mesh]) -> Mesh {
-    let mut out = Mesh {
-        normals: Some(Vec::new()),
-        ..Mesh::default()
-    };
-    for m in meshes {
-        let base = out.positions.len() as u32;
-        out.positions.extend_from_slice(&m.positions);
-        if let (Some(all), Some(n)) = (out.normals.as_mut(), m.normals.as_ref()) {
-            all.extend_from_slice(n);
-        }
-        out.triangles
-            .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
-    out
 }
 
 pub fn run(args: MeshArgs) -> Result<()> {
@@ -81,32 +63,12 @@ pub fn run(args: MeshArgs) -> Result<()> {
         cap_rings: args.cap_rings,
         target_edge: args.edge,
     };
-    let meshes = model
-        .parts
-        .iter()
-        .map(|p| {
-            tessellate_part(&p.part, &options).map_err(|e| bad(format!("part '{}': {e}", p.name)))
-        })
-        .collect::<Result<Vec<Mesh>>>()?;
-    // Transitions: a grid of about the parts' resolution.
-    let mut meshes = meshes;
-    meshes.extend(model.transitions.iter().map(|t| match options.target_edge {
-        Some(e) => t.transition.tessellate_edge(e),
-        None => t.transition.tessellate(options.around, options.along),
-    }));
-    let transition_names: Vec<String> = model
-        .transitions
-        .iter()
-        .map(|t| format!("{}-{}", t.from, t.to))
-        .collect();
+    let pieces = model
+        .tessellate_pieces(&options)
+        .map_err(|e| bad(e.to_string()))?;
     if glb {
-        let names = model
-            .parts
+        let named: Vec<NamedMesh> = pieces
             .iter()
-            .map(|p| p.name.as_str())
-            .chain(transition_names.iter().map(String::as_str));
-        let named: Vec<NamedMesh> = names
-            .zip(&meshes)
             .map(|(name, mesh)| NamedMesh { name, mesh })
             .collect();
         let bytes = glb_bytes(&named)?;
@@ -117,9 +79,10 @@ pub fn run(args: MeshArgs) -> Result<()> {
             overwrite: args.force,
             ..WriteOptions::default()
         };
-        write_mesh(&args.output, &merged(&meshes), &options).map_err(|e| bad(e.to_string()))?;
+        write_mesh(&args.output, &merge_pieces(&pieces), &options)
+            .map_err(|e| bad(e.to_string()))?;
     }
-    let (v, t) = meshes.iter().fold((0, 0), |(v, t), m| {
+    let (v, t) = pieces.iter().fold((0, 0), |(v, t), (_, m)| {
         (v + m.positions.len(), t + m.triangles.len())
     });
     println!(

@@ -11,10 +11,10 @@ use clap::{Args, ValueEnum};
 use std::path::PathBuf;
 use trigbody_core::body::{reconstruct_with_progress, Progress, ReconstructOptions, Report, Units};
 use trigbody_core::segment::BodyGeometry;
-use trigbody_core::{tessellate_part, Mesh, Real, TessellationOptions, Vec3};
+use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
-use trigbody_io::model::write_model;
+use trigbody_io::model::{merge_pieces, write_model};
 use trigbody_io::{
     read_bytes, read_geometry, write_mesh, Format, Geometry, ReadOptions, WriteOptions,
 };
@@ -188,36 +188,17 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             target_edge: Some(0.004 * model.height),
             ..TessellationOptions::default()
         };
-        let mut meshes = model
-            .parts
-            .iter()
-            .map(|p| tessellate_part(&p.part, &tess))
-            .collect::<Result<Vec<Mesh>, _>>()?;
-        // Transitions (one GLB node each, named `from-to`).
-        let transition_names: Vec<String> = model
-            .transitions
-            .iter()
-            .map(|t| format!("{}-{}", part_file_name(t.from), part_file_name(t.to)))
-            .collect();
-        meshes.extend(
-            model
-                .transitions
-                .iter()
-                .map(|t| t.transition.tessellate_edge(0.004 * model.height)),
-        );
+        let pieces = model_of_body(&model)
+            .tessellate_pieces(&tess)
+            .map_err(|e| bad(format!("{name}: {e}")))?;
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
             .map(|e| e.to_ascii_lowercase())
             .unwrap_or_default();
         if ext == "glb" {
-            let names = model
-                .parts
+            let named: Vec<NamedMesh> = pieces
                 .iter()
-                .map(|p| part_file_name(p.name))
-                .chain(transition_names.iter().map(String::as_str));
-            let named: Vec<NamedMesh> = names
-                .zip(&meshes)
                 .map(|(name, mesh)| NamedMesh { name, mesh })
                 .collect();
             write_file(path, &glb_bytes(&named)?, &inputs, args.force)?;
@@ -225,10 +206,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             Format::from_path(path),
             Some(Format::Obj | Format::Ply | Format::Stl)
         ) {
-            let mut all = Mesh::default();
-            for m in &meshes {
-                trigbody_core::body::append_mesh(&mut all, m);
-            }
+            let all = merge_pieces(&pieces);
             let wo = WriteOptions {
                 overwrite: args.force,
                 ..WriteOptions::default()

@@ -897,6 +897,25 @@ const FRAGMENT_AREA: Real = 0.3;
 
 impl Graph {
     /// `slices[k]` are the node ids of slice `k`, bottom to top.
+    /// The graph of the loops of consecutive slices (slice `k` the `k`-th
+    /// item), with dead-end branches shorter than `min_span` slices pruned.
+    fn of_slices(slices: impl IntoIterator<Item = Vec<Node>>, min_span: usize) -> Graph {
+        let mut nodes = Vec::new();
+        let mut slice_nodes = Vec::new();
+        for (k, loops) in slices.into_iter().enumerate() {
+            let mut ids = Vec::with_capacity(loops.len());
+            for mut node in loops {
+                node.slice = k;
+                nodes.push(node);
+                ids.push(nodes.len() - 1);
+            }
+            slice_nodes.push(ids);
+        }
+        let mut g = Graph::new(nodes, &slice_nodes);
+        g.prune(min_span);
+        g
+    }
+
     fn new(nodes: Vec<Node>, slices: &[Vec<usize>]) -> Graph {
         let n = nodes.len();
         let mut g = Graph {
@@ -1290,21 +1309,8 @@ pub fn segment(
     let height_of = |slice: usize| (slice as Real + 0.5) * step;
 
     // 4. Graph.
-    let mut nodes = Vec::new();
-    let mut slice_nodes: Vec<Vec<usize>> = Vec::with_capacity(n);
-    for (k, (_, loops)) in raw.iter().enumerate() {
-        let mut ids = Vec::new();
-        for l in loops {
-            let mut node = l.clone();
-            node.slice = k;
-            nodes.push(node);
-            ids.push(nodes.len() - 1);
-        }
-        slice_nodes.push(ids);
-    }
-    let mut g = Graph::new(nodes, &slice_nodes);
     let min_span = ((opts.min_branch * n as Real).ceil() as usize).max(2);
-    g.prune(min_span);
+    let g = Graph::of_slices(raw.iter().map(|(_, loops)| loops.clone()), min_span);
 
     // 5. Legs and crotch.
     let roots: Vec<usize> = (0..g.segments.len())
@@ -2785,8 +2791,6 @@ fn lateral_arm(
     let lstep = (max - min) / count as Real;
     let e1 = axis.any_perpendicular();
     let e2 = axis.cross(e1);
-    let mut nodes = Vec::new();
-    let mut slice_nodes = Vec::with_capacity(count);
     let mut largest: Real = 0.0;
     let mut raw = Vec::with_capacity(count);
     for k in 0..count {
@@ -2794,20 +2798,13 @@ fn lateral_arm(
         largest = found.iter().map(|nd| nd.area).fold(largest, Real::max);
         raw.push(found);
     }
-    for (k, found) in raw.into_iter().enumerate() {
-        let mut ids = Vec::new();
-        for mut nd in found {
-            if nd.area >= opts.min_loop_area * largest {
-                nd.slice = k;
-                nodes.push(nd);
-                ids.push(nodes.len() - 1);
-            }
-        }
-        slice_nodes.push(ids);
-    }
-    let mut g = Graph::new(nodes, &slice_nodes);
+    let floor = opts.min_loop_area * largest;
     let min_span = ((opts.min_branch * count as Real).ceil() as usize).max(2);
-    g.prune(min_span);
+    let g = Graph::of_slices(
+        raw.into_iter()
+            .map(|found| found.into_iter().filter(|nd| nd.area >= floor).collect()),
+        min_span,
+    );
     let best = (0..g.segments.len())
         .filter(|&s| g.segments[s].parents.is_empty())
         .filter(|&s| g.nodes[g.segments[s].nodes[0]].slice <= count / 10)

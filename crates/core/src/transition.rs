@@ -405,6 +405,15 @@ impl Transition {
         }
     }
 
+    /// Tessellated as the parts are with `options`: edges of about
+    /// `target_edge` when it is set, else `around × along`.
+    pub fn tessellate_with(&self, options: &crate::tessellate::TessellationOptions) -> Mesh {
+        match options.target_edge {
+            Some(e) => self.tessellate_edge(e),
+            None => self.tessellate(options.around, options.along),
+        }
+    }
+
     /// [`Transition::tessellate`] with grid edges of about `edge` (model
     /// units) along both directions.
     pub fn tessellate_edge(&self, edge: Real) -> Mesh {

@@ -43,8 +43,12 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::io::{Read, Write};
 use thiserror::Error;
+use trigbody_core::tessellate::TessellateError;
 use trigbody_core::transition::{Seam, Transition, TransitionError, TransitionSpec};
-use trigbody_core::{CapKind, Frame, Part, PartError, PartOptions, Skinning, TrigCurve, Vec3};
+use trigbody_core::{
+    tessellate_part, CapKind, Frame, Mesh, Part, PartError, PartOptions, Skinning,
+    TessellationOptions, TrigCurve, Vec3,
+};
 
 /// The `format` field of every model file.
 pub const MODEL_FORMAT: &str = "trigbody-model";
@@ -103,6 +107,53 @@ pub struct Model {
     pub parts: Vec<ModelPart>,
     /// Transition surfaces between parts, in file order.
     pub transitions: Vec<ModelTransition>,
+}
+
+impl Model {
+    /// Each part, then each transition (named `from-to`, e.g.
+    /// `left_leg-torso`), tessellated with `options`, in that order: the
+    /// pieces a GLB writes as nodes, or merges into one mesh.
+    pub fn tessellate_pieces(
+        &self,
+        options: &TessellationOptions,
+    ) -> Result<Vec<(String, Mesh)>, PieceError> {
+        let mut out = Vec::with_capacity(self.parts.len() + self.transitions.len());
+        for p in &self.parts {
+            let mesh = tessellate_part(&p.part, options).map_err(|source| PieceError {
+                part: p.name.clone(),
+                source,
+            })?;
+            out.push((p.name.clone(), mesh));
+        }
+        for t in &self.transitions {
+            out.push((
+                format!("{}-{}", t.from, t.to),
+                t.transition.tessellate_with(options),
+            ));
+        }
+        Ok(out)
+    }
+}
+
+/// The pieces of [`Model::tessellate_pieces`] in one mesh (indices
+/// shifted; normals kept when every piece has them).
+pub fn merge_pieces(pieces: &[(String, Mesh)]) -> Mesh {
+    let mut out = Mesh::default();
+    for (_, m) in pieces {
+        trigbody_core::body::append_mesh(&mut out, m);
+    }
+    out
+}
+
+/// A part of a model that could not be tessellated.
+#[derive(Debug, Error)]
+#[error("part '{part}': {source}")]
+pub struct PieceError {
+    /// The part's name in the model.
+    pub part: String,
+    /// What the tessellation found.
+    #[source]
+    pub source: TessellateError,
 }
 
 /// What is wrong with a model file (every message names the part and

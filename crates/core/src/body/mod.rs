@@ -322,24 +322,28 @@ impl Body {
         self.parts.iter().find(|p| p.name == name)
     }
 
-    /// Tessellates every part into one mesh (parts one after the other).
+    /// Tessellates every part, then every transition, into one mesh (in
+    /// that order), the pieces taken by the cores as they come free.
     pub fn tessellate(&self, options: &TessellationOptions) -> Result<Mesh, ReconstructError> {
-        let mut out = Mesh::default();
-        for p in &self.parts {
-            let m = tessellate_part(&p.part, options).map_err(|source| {
-                ReconstructError::Tessellate {
+        enum Piece<'b> {
+            Part(&'b BodyPart),
+            Transition(&'b BodyTransition),
+        }
+        let pieces: Vec<Piece> = (self.parts.iter().map(Piece::Part))
+            .chain(self.transitions.iter().map(Piece::Transition))
+            .collect();
+        let meshes = each_on_cores(&pieces, |piece| match piece {
+            Piece::Part(p) => {
+                tessellate_part(&p.part, options).map_err(|source| ReconstructError::Tessellate {
                     part: p.name,
                     source,
-                }
-            })?;
-            append_mesh(&mut out, &m);
-        }
-        for t in &self.transitions {
-            let m = match options.target_edge {
-                Some(e) => t.transition.tessellate_edge(e),
-                None => t.transition.tessellate(options.around, options.along),
-            };
-            append_mesh(&mut out, &m);
+                })
+            }
+            Piece::Transition(t) => Ok(t.transition.tessellate_with(options)),
+        });
+        let mut out = Mesh::default();
+        for m in meshes {
+            append_mesh(&mut out, &m?);
         }
         Ok(out)
     }

@@ -90,11 +90,11 @@ pub(super) fn torso_without_arms(seg: &Segmentation, outline: SectionLoop) -> Op
         // p95); a loop along the arm reaches much further.
         let reach = (2.0 * r).max(0.25 * axis.length());
         let step = (axis.points.len() / 24).max(1);
-        let runs_out = axis
-            .points
-            .iter()
-            .step_by(step)
-            .any(|&p| (p - a).dot(d) > reach && out.contains(p));
+        // The loop projected once, not once per axis point (`contains`).
+        let poly = out.plane_points();
+        let runs_out = axis.points.iter().step_by(step).any(|&p| {
+            (p - a).dot(d) > reach && crate::section::point_in_polygon(out.frame.to_plane(p), &poly)
+        });
         if runs_out {
             out = out.clipped(a, d)?;
         }

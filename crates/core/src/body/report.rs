@@ -115,7 +115,7 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
 /// `f` of every item, in order, the items taken one at a time by the
 /// cores as they come free (an atomic counter): items of very different
 /// cost (a torso and a transition) balance better than in fixed runs.
-fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+pub(super) fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
     let threads = cores.min(items.len());
@@ -186,29 +186,7 @@ pub(super) fn measure_with(
         target_edge: Some(opts.report_edge * model.height),
         ..TessellationOptions::default()
     };
-    // The parts and the transitions tessellated over the cores, joined in
-    // order (as `Body::tessellate`: the parts, then the transitions).
-    let edge = opts.report_edge * model.height;
-    enum Piece<'b> {
-        Part(&'b BodyPart),
-        Transition(&'b BodyTransition),
-    }
-    let pieces: Vec<Piece> = (model.parts.iter().map(Piece::Part))
-        .chain(model.transitions.iter().map(Piece::Transition))
-        .collect();
-    let meshes = each_on_cores(&pieces, |piece| match piece {
-        Piece::Part(p) => {
-            tessellate_part(&p.part, &tess).map_err(|source| ReconstructError::Tessellate {
-                part: p.name,
-                source,
-            })
-        }
-        Piece::Transition(t) => Ok(t.transition.tessellate_edge(edge)),
-    });
-    let mut surface = Mesh::default();
-    for m in meshes {
-        append_mesh(&mut surface, &m?);
-    }
+    let surface = model.tessellate(&tess)?;
     // Model -> input (sampling the model included) while the model's
     // hierarchy is built (two cores). The input mesh's ray-casting
     // hierarchy (for the hidden samples) is built on that side too.

@@ -169,7 +169,7 @@ fn re_posed_and_re_shaped_bodies_reconstruct() {
     let lim = |rms, p95, coverage| Limits { rms, p95, coverage };
     // Measured (mesh; scan): T 3.60 / 2.77 / 96.52 %; 6.12 / 13.88 /
     // 96.20 %. Legs 3.48 / 2.89 / 96.34 %; 3.84 / 10.08 / 97.42 %.
-    // Shorter 3.40 / 2.51 / 97.14 %; 4.02 / 9.68 / 97.14 %.
+    // Shorter 3.40 / 2.51 / 97.14 %; 4.22 / 9.77 / 97.46 %.
     let variants: Vec<(&str, Mesh, Limits, Limits)> = vec![
         (
             "arms raised 45 deg (about T)",

@@ -20,6 +20,7 @@ pub mod distance;
 pub mod ellipse;
 pub mod fit;
 pub mod girth;
+pub mod holes;
 pub mod linalg;
 pub mod lsq;
 pub mod math;

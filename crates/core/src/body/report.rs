@@ -419,6 +419,40 @@ impl<'a> PointGrid<'a> {
         }
         (best2.sqrt(), best_i)
     }
+
+    /// The point nearest `p` (`None` for an empty cloud).
+    pub fn nearest_point(&self, p: Point3) -> Option<Point3> {
+        self.nearest_from(p, None)
+            .1
+            .map(|i| self.sorted[i as usize])
+    }
+
+    /// The points within distance `r` of `p`.
+    pub fn within(&self, p: Point3, r: Real) -> Vec<Point3> {
+        let mut out = Vec::new();
+        if self.sorted.is_empty() || !p.is_finite() || !(r >= 0.0) {
+            return out;
+        }
+        let (lo, hi) = (
+            self.coords(p - Vec3::new(r, r, r)),
+            self.coords(p + Vec3::new(r, r, r)),
+        );
+        let clamp = |v: i64, n: usize| v.clamp(0, n as i64 - 1);
+        for z in clamp(lo[2], self.dims[2])..=clamp(hi[2], self.dims[2]) {
+            for y in clamp(lo[1], self.dims[1])..=clamp(hi[1], self.dims[1]) {
+                for x in clamp(lo[0], self.dims[0])..=clamp(hi[0], self.dims[0]) {
+                    let k = self.key([x, y, z]);
+                    let (a, b) = (self.starts[k] as usize, self.starts[k + 1] as usize);
+                    out.extend(
+                        self.sorted[a..b]
+                            .iter()
+                            .filter(|q| (**q - p).norm_squared() <= r * r),
+                    );
+                }
+            }
+        }
+        out
+    }
 }
 
 #[cfg(test)]
@@ -465,5 +499,25 @@ mod tests {
             .collect();
         let single: Vec<Real> = queries.iter().map(|q| grid.nearest(*q)).collect();
         assert_eq!(grid.distances(&queries), single);
+        // The nearest point itself, and the points within a radius.
+        for q in queries.iter().take(200) {
+            let p = grid.nearest_point(*q).unwrap();
+            assert_eq!(p.distance(*q), grid.nearest(*q));
+            for r in [0.0, 0.03, 0.12] {
+                let mut got: Vec<[u64; 3]> = grid
+                    .within(*q, r)
+                    .iter()
+                    .map(|p| p.to_array().map(Real::to_bits))
+                    .collect();
+                let mut want: Vec<[u64; 3]> = pts
+                    .iter()
+                    .filter(|p| p.distance(*q) <= r)
+                    .map(|p| p.to_array().map(Real::to_bits))
+                    .collect();
+                got.sort_unstable();
+                want.sort_unstable();
+                assert_eq!(got, want, "{q:?} {r}");
+            }
+        }
     }
 }

@@ -20,8 +20,11 @@
 //! whose nearest scan point lies on a rim is *over a hole*, and the
 //! observed-surface numbers leave it out (the plain numbers keep it).
 
+use crate::body::PointGrid;
+use crate::distance::parallel_map;
 use crate::linalg::symmetric_eigen3;
 use crate::math::{Point3, Real};
+use std::collections::HashMap;
 
 /// The widest angular gap (radians) between neighbours about a point that
 /// is not on a rim: 120°.
@@ -69,6 +72,43 @@ pub fn on_rim(q: Point3, neighbours: &[Point3]) -> bool {
         })
         .fold(0.0, Real::max);
     widest > RIM_GAP
+}
+
+/// Which of `samples` (a model's, at distances `d` from the cloud that
+/// `grid` indexes) lie over a hole of the scan: farther than `far` from
+/// every scan point, with the nearest scan point on a rim ([`on_rim`],
+/// neighbours within `radius`). Samples within `far` are never over a
+/// hole. The far samples are tested on the cores, each run remembering the
+/// verdict of the nearest points it has met (neighbouring samples share
+/// them).
+pub fn over_holes(
+    grid: &PointGrid<'_>,
+    samples: &[Point3],
+    d: &[Real],
+    far: Real,
+    radius: Real,
+) -> Vec<bool> {
+    let far_ones: Vec<usize> = (0..samples.len().min(d.len()))
+        .filter(|&i| d[i] > far)
+        .collect();
+    let verdicts = parallel_map(&far_ones, 64, |run| {
+        let mut seen: HashMap<[u64; 3], bool> = HashMap::new();
+        run.iter()
+            .map(|&i| {
+                let Some(q) = grid.nearest_point(samples[i]) else {
+                    return false;
+                };
+                *seen
+                    .entry(q.to_array().map(Real::to_bits))
+                    .or_insert_with(|| on_rim(q, &grid.within(q, radius)))
+            })
+            .collect()
+    });
+    let mut over = vec![false; samples.len()];
+    for (&i, v) in far_ones.iter().zip(verdicts) {
+        over[i] = v;
+    }
+    over
 }
 
 #[cfg(test)]
@@ -137,6 +177,28 @@ mod tests {
             Vec3::new(5.0, 5.0, 5.0),
             &near(&pts, Vec3::new(5.0, 5.0, 5.0), r)
         ));
+    }
+
+    /// Samples over the cut-away half of a patch, beyond `far`, are over a
+    /// hole; samples off the sampled half's face by as much are not (the
+    /// nearest point is inside the patch, not on its rim); near samples
+    /// never are.
+    #[test]
+    fn samples_beyond_a_rim_are_over_the_hole() {
+        let mut rng = Rng::new(9);
+        let pts = patch(0.0, &mut rng);
+        let (a, b, n) = axes();
+        let grid = PointGrid::new(&pts, 0.1);
+        let samples = [
+            a * 0.5 + b * 0.1,             // over the hole, 0.5 from the rim
+            a * -0.5 + b * 0.1 + n * 0.3,  // off the face by 0.3
+            a * -0.5 + b * 0.1 + n * 0.01, // near
+        ];
+        let d: Vec<Real> = samples.iter().map(|s| grid.nearest(*s)).collect();
+        assert_eq!(
+            over_holes(&grid, &samples, &d, 0.1, 0.2),
+            vec![true, false, false]
+        );
     }
 
     /// A closed sphere sampled all over (spacing √(4π/4000) ≈ 0.056, radius

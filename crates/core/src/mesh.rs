@@ -111,6 +111,23 @@ impl Aabb {
     pub fn diagonal(&self) -> Real {
         self.size().norm()
     }
+    /// True when the two closed boxes share a point.
+    pub fn overlaps(&self, o: &Aabb) -> bool {
+        self.min.x <= o.max.x
+            && o.min.x <= self.max.x
+            && self.min.y <= o.max.y
+            && o.min.y <= self.max.y
+            && self.min.z <= o.max.z
+            && o.min.z <= self.max.z
+    }
+    /// The box grown by `margin` on every side.
+    pub fn grown(&self, margin: Real) -> Aabb {
+        let m = Vec3::new(margin, margin, margin);
+        Aabb {
+            min: self.min - m,
+            max: self.max + m,
+        }
+    }
 }
 
 fn check_points(positions: &[Point3], normals: Option<&Vec<Vec3>>) -> Result<(), MeshError> {

@@ -118,6 +118,10 @@ fn table(r: &Report) -> String {
             x.rms, x.p95, x.max
         )
     };
+    t.push_str(&format!(
+        "distances to and from the model's outer skin ({:.1} % of its pieces' area lies inside other pieces)\n",
+        100.0 * r.interior_area_share
+    ));
     t.push_str(&d("distance", &r.distance_mm));
     t.push_str(&d("  input->model", &r.input_to_model_mm));
     t.push_str(&d("  model->input", &r.model_to_input_mm));

@@ -86,6 +86,14 @@ pub(crate) fn grid_layout(
     (lo, cell, dims)
 }
 
+/// The cell of `p` in a grid laid out by [`grid_layout`] (`origin`,
+/// `cell`, `dims`), clamped to the grid.
+pub(crate) fn grid_cell(p: Point3, origin: Point3, cell: Real, dims: [usize; 3]) -> [usize; 3] {
+    let d = (p - origin) / cell;
+    let c = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+    [c(d.x, dims[0]), c(d.y, dims[1]), c(d.z, dims[2])]
+}
+
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {

@@ -124,17 +124,9 @@ impl OuterSkin {
 pub fn concatenate(pieces: &[Mesh]) -> (Mesh, Vec<Range<usize>>) {
     let mut out = Mesh::default();
     let mut ranges = Vec::with_capacity(pieces.len());
-    for (k, m) in pieces.iter().enumerate() {
+    for m in pieces {
         let start = out.triangles.len();
-        let base = out.positions.len() as u32;
-        out.positions.extend_from_slice(&m.positions);
-        match (&mut out.normals, &m.normals) {
-            (Some(n), Some(mn)) => n.extend_from_slice(mn),
-            (n @ None, Some(mn)) if k == 0 => *n = Some(mn.clone()),
-            (n, _) => *n = None,
-        }
-        out.triangles
-            .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
+        crate::body::append_mesh(&mut out, m);
         ranges.push(start..out.triangles.len());
     }
     (out, ranges)
@@ -238,15 +230,8 @@ impl<'m> ClosedPieces<'m> {
     }
 
     fn outer_with(&self, hierarchy: &MeshDistance, depth: Real) -> OuterSkin {
-        let ClosedPieces {
-            surface,
-            pieces,
-            piece_of,
-            infos,
-            caps,
-            cap_piece,
-        } = self;
-        let surface: &Mesh = surface;
+        let (surface, pieces, piece_of) = (self.surface, &self.pieces, &self.piece_of);
+        let (infos, caps, cap_piece) = (&self.infos, &self.caps, &self.cap_piece);
         let n = surface.triangles.len();
         let tau = if depth > 0.0 { depth } else { 0.0 };
         let bit = |k: u32| if k == u32::MAX { 0 } else { 1u64 << (k % 64) };
@@ -259,7 +244,7 @@ impl<'m> ClosedPieces<'m> {
         };
         // Per piece A, the pieces B that may hold some of its triangles, and
         // A's candidates for each (centroid in B's box), in one pass over A.
-        let work: Vec<(usize, usize, Vec<usize>)> = each_on_cores(&pieces, |ra| {
+        let work: Vec<(usize, usize, Vec<usize>)> = each_on_cores(pieces, |ra| {
             let a = piece_of.get(ra.start).map_or(0, |&k| k as usize);
             let others: Vec<(usize, Aabb)> = match infos.get(a).and_then(|i| i.bounds) {
                 Some(box_a) if !ra.is_empty() => infos
@@ -464,13 +449,7 @@ impl Near {
 
     /// The cell of `p`, clamped to the grid.
     fn coords(&self, p: Point3) -> [usize; 3] {
-        let d = (p - self.origin) / self.cell;
-        let c = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
-        [
-            c(d.x, self.dims[0]),
-            c(d.y, self.dims[1]),
-            c(d.z, self.dims[2]),
-        ]
+        crate::mesh::grid_cell(p, self.origin, self.cell, self.dims)
     }
 
     /// False when `p` (one of the grid's points) is farther than `reach`
@@ -612,7 +591,7 @@ fn add_cap(caps: &mut Mesh, surface: &Mesh, cycle: &[u32]) {
     for &v in cycle {
         let p = surface.positions[v as usize];
         caps.positions.push(p);
-        centre = centre + p;
+        centre += p;
     }
     caps.positions.push(centre / cycle.len() as Real);
     for k in 0..m {

@@ -94,29 +94,48 @@ impl OuterSkin {
     /// The skin as a mesh: `surface`'s vertices (and normals) and its
     /// triangles on the outer skin, unreferenced vertices left out.
     pub fn mesh(&self, surface: &Mesh) -> Mesh {
-        let mut index = vec![u32::MAX; surface.positions.len()];
-        let mut out = Mesh::default();
-        let mut normals = surface.normals.as_ref().map(|_| Vec::new());
-        for (t, tri) in surface.triangles.iter().enumerate() {
-            if !self.outer.get(t).copied().unwrap_or(true) {
-                continue;
-            }
-            let mut new = [0u32; 3];
-            for (k, &v) in tri.iter().enumerate() {
-                if index[v as usize] == u32::MAX {
-                    index[v as usize] = out.positions.len() as u32;
-                    out.positions.push(surface.positions[v as usize]);
-                    if let (Some(n), Some(sn)) = (&mut normals, &surface.normals) {
-                        n.push(sn[v as usize]);
-                    }
-                }
-                new[k] = index[v as usize];
-            }
-            out.triangles.push(new);
-        }
-        out.normals = normals;
-        out
+        kept(surface, |t| self.outer.get(t).copied().unwrap_or(true))
     }
+}
+
+/// `m`'s triangles `t` with `keep(t)`, their vertices (and normals) only.
+fn kept(m: &Mesh, keep: impl Fn(usize) -> bool) -> Mesh {
+    let mut index = vec![u32::MAX; m.positions.len()];
+    let mut out = Mesh::default();
+    let mut normals = m.normals.as_ref().map(|_| Vec::new());
+    for (t, tri) in m.triangles.iter().enumerate() {
+        if !keep(t) {
+            continue;
+        }
+        let mut new = [0u32; 3];
+        for (k, &v) in tri.iter().enumerate() {
+            if index[v as usize] == u32::MAX {
+                index[v as usize] = out.positions.len() as u32;
+                out.positions.push(m.positions[v as usize]);
+                if let (Some(n), Some(mn)) = (&mut normals, &m.normals) {
+                    n.push(mn[v as usize]);
+                }
+            }
+            new[k] = index[v as usize];
+        }
+        out.triangles.push(new);
+    }
+    out.normals = normals;
+    out
+}
+
+/// Each piece trimmed to its part of the outer skin of all of them (depth
+/// tolerance `depth`, as [`outer_skin`]), in order: for writing a model's
+/// visible surface piece by piece.
+pub fn outer_pieces(pieces: &[Mesh], depth: Real) -> Vec<Mesh> {
+    let (surface, ranges) = concatenate(pieces);
+    let hierarchy = MeshDistance::new(&surface);
+    let skin = outer_triangles(&hierarchy, &ranges, depth);
+    pieces
+        .iter()
+        .zip(&ranges)
+        .map(|(m, r)| kept(m, |t| skin.outer[r.start + t]))
+        .collect()
 }
 
 /// The pieces one after another in one mesh, and each piece's range of
@@ -850,7 +869,7 @@ mod tests {
         let a = grid_box(Vec3::new(0.0, 0.0, 0.0), Vec3::new(2.0, 1.0, 1.0), 8);
         let b = grid_box(Vec3::new(1.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 1.0), 8);
         let skin = check_exact(&[a.clone(), b.clone()], &[a.clone(), b.clone()], 0.01);
-        let (surface, _) = concatenate(&[a, b]);
+        let (surface, _) = concatenate(&[a.clone(), b.clone()]);
         let mesh = skin.mesh(&surface);
         // The union's boundary, sampled: every point on the skin.
         let union = grid_box(Vec3::new(0.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 1.0), 24);
@@ -858,6 +877,15 @@ mod tests {
         for p in crate::distance::sample_surface(&union, 5000) {
             assert!(on_skin.distance(p) < 1e-12, "{p:?}");
         }
+        // Piece by piece, the same triangles.
+        let split = outer_pieces(&[a.clone(), b.clone()], 0.01);
+        assert_eq!(
+            split.iter().map(|m| m.triangles.len()).sum::<usize>(),
+            mesh.triangles.len()
+        );
+        assert!(
+            (split[0].surface_area() + split[1].surface_area() - mesh.surface_area()).abs() < 1e-12
+        );
         // And the skin is no more than the union's boundary: the inner
         // faces (x = 1 of b, x = 2 of a) are gone.
         for t in 0..mesh.triangles.len() {

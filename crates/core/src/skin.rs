@@ -188,6 +188,8 @@ pub struct ClosedPieces<'m> {
     /// piece.
     caps: Mesh,
     cap_piece: Vec<u32>,
+    /// The candidates of every pair of pieces ([`ClosedPieces::candidate_pairs`]).
+    pairs: Vec<(usize, usize, Vec<usize>)>,
 }
 
 impl<'m> ClosedPieces<'m> {
@@ -213,57 +215,32 @@ impl<'m> ClosedPieces<'m> {
                 cap_piece.resize(caps.triangles.len(), k as u32);
             }
         }
-        ClosedPieces {
+        let mut closed = ClosedPieces {
             surface,
             pieces,
             piece_of,
             infos,
             caps,
             cap_piece,
-        }
+            pairs: Vec::new(),
+        };
+        closed.pairs = closed.candidate_pairs();
+        closed
     }
 
-    /// The fans that close the pieces' loops (one mesh; with the pieces
-    /// they make each piece's closed surface).
-    pub fn caps(&self) -> &Mesh {
-        &self.caps
-    }
-
-    /// Pieces whose open ends could not be closed.
-    pub fn unclosed(&self) -> usize {
-        self.infos
-            .iter()
-            .filter(|i| i.bounds.is_some() && i.loops.is_none())
-            .count()
-    }
-
-    /// The outer skin with depth tolerance `depth` (a negative or NaN
-    /// depth counts as 0), using `hierarchy` when it is over the pieces'
-    /// mesh (else building one).
-    pub fn outer(&self, hierarchy: &MeshDistance, depth: Real) -> OuterSkin {
-        if std::ptr::eq(hierarchy.mesh(), self.surface) {
-            self.outer_with(hierarchy, depth)
-        } else {
-            self.outer_with(&MeshDistance::new(self.surface), depth)
-        }
-    }
-
-    fn outer_with(&self, hierarchy: &MeshDistance, depth: Real) -> OuterSkin {
-        let (surface, pieces, piece_of) = (self.surface, &self.pieces, &self.piece_of);
-        let (infos, caps, cap_piece) = (&self.infos, &self.caps, &self.cap_piece);
-        let n = surface.triangles.len();
-        let tau = if depth > 0.0 { depth } else { 0.0 };
-        let bit = |k: u32| if k == u32::MAX { 0 } else { 1u64 << (k % 64) };
-        let labels = hierarchy.node_labels(|t| bit(piece_of[t]));
-        let cap_tree = MeshDistance::new(caps);
-        let cap_labels = cap_tree.node_labels(|t| bit(cap_piece[t]));
+    /// Per piece A, the pieces B that may hold some of its triangles (B
+    /// closed, the boxes overlapping), and A's candidates for each (the
+    /// triangles whose centroid lies in B's box), in one pass over A.
+    fn candidate_pairs(&self) -> Vec<(usize, usize, Vec<usize>)> {
+        let (surface, pieces, piece_of, infos) =
+            (self.surface, &self.pieces, &self.piece_of, &self.infos);
         let centroid = |t: usize| {
             let [a, b, c] = surface.triangle(t);
             (a + b + c) / 3.0
         };
         // Per piece A, the pieces B that may hold some of its triangles, and
         // A's candidates for each (centroid in B's box), in one pass over A.
-        let work: Vec<(usize, usize, Vec<usize>)> = each_on_cores(pieces, |ra| {
+        each_on_cores(pieces, |ra| {
             let a = piece_of.get(ra.start).map_or(0, |&k| k as usize);
             let others: Vec<(usize, Aabb)> = match infos.get(a).and_then(|i| i.bounds) {
                 Some(box_a) if !ra.is_empty() => infos
@@ -299,8 +276,48 @@ impl<'m> ClosedPieces<'m> {
         })
         .into_iter()
         .flatten()
-        .collect();
-        let dropped = each_on_cores(&work, |(a, b, candidates)| {
+        .collect()
+    }
+
+    /// The fans that close the pieces' loops (one mesh; with the pieces
+    /// they make each piece's closed surface).
+    pub fn caps(&self) -> &Mesh {
+        &self.caps
+    }
+
+    /// Pieces whose open ends could not be closed.
+    pub fn unclosed(&self) -> usize {
+        self.infos
+            .iter()
+            .filter(|i| i.bounds.is_some() && i.loops.is_none())
+            .count()
+    }
+
+    /// The outer skin with depth tolerance `depth` (a negative or NaN
+    /// depth counts as 0), using `hierarchy` when it is over the pieces'
+    /// mesh (else building one).
+    pub fn outer(&self, hierarchy: &MeshDistance, depth: Real) -> OuterSkin {
+        if std::ptr::eq(hierarchy.mesh(), self.surface) {
+            self.outer_with(hierarchy, depth)
+        } else {
+            self.outer_with(&MeshDistance::new(self.surface), depth)
+        }
+    }
+
+    fn outer_with(&self, hierarchy: &MeshDistance, depth: Real) -> OuterSkin {
+        let (surface, piece_of) = (self.surface, &self.piece_of);
+        let (infos, caps, cap_piece) = (&self.infos, &self.caps, &self.cap_piece);
+        let n = surface.triangles.len();
+        let tau = if depth > 0.0 { depth } else { 0.0 };
+        let bit = |k: u32| if k == u32::MAX { 0 } else { 1u64 << (k % 64) };
+        let labels = hierarchy.node_labels(|t| bit(piece_of[t]));
+        let cap_tree = MeshDistance::new(caps);
+        let cap_labels = cap_tree.node_labels(|t| bit(cap_piece[t]));
+        let centroid = |t: usize| {
+            let [a, b, c] = surface.triangle(t);
+            (a + b + c) / 3.0
+        };
+        let dropped = each_on_cores(&self.pairs, |(a, b, candidates)| {
             let (a, b32, bb) = (*a, *b as u32, bit(*b as u32));
             let Some(box_b) = infos[*b].bounds else {
                 return Vec::new();

@@ -163,11 +163,12 @@ pub(super) fn measure_with(
     // hierarchy that measures the input's distances to it.
     let (surface, pieces) = crate::skin::concatenate(&model.tessellate_pieces(&tess)?);
     // Model -> input (sampling the model included) while the model's
-    // hierarchy is built (two cores): every sample's distance is taken,
-    // those on interior triangles are left out once the outer skin is
-    // known. The input mesh's ray-casting hierarchy (for the hidden
-    // samples) and the pieces' closed ends are built on that side too.
-    let ((out_all, on, area, input_samples, input_count, vis, closed), model_dist) =
+    // hierarchy is built, the pieces' open ends closed and the outer skin
+    // found (three threads on the two cores): every sample's distance is
+    // taken, those on interior triangles are left out once the outer skin
+    // is known. The input mesh's ray-casting hierarchy (for the hidden
+    // samples) is built on the first side too.
+    let ((out_all, on, area, input_samples, input_count, vis), skin, model_dist) =
         std::thread::scope(|scope| {
             let out = scope.spawn(|| {
                 let (model_samples, on, area) =
@@ -185,16 +186,19 @@ pub(super) fn measure_with(
                         None,
                     ),
                 };
-                let closed = ClosedPieces::new(&surface, &pieces);
-                (d, on, area, samples, count, vis, closed)
+                (d, on, area, samples, count, vis)
             });
+            let closed = scope.spawn(|| ClosedPieces::new(&surface, &pieces));
             let model_dist = MeshDistance::new(&surface);
+            let skin = match closed.join() {
+                Ok(c) => c.outer(&model_dist, opts.skin_depth * model.height),
+                Err(panic) => std::panic::resume_unwind(panic),
+            };
             match out.join() {
-                Ok(o) => (o, model_dist),
+                Ok(o) => (o, skin, model_dist),
                 Err(panic) => std::panic::resume_unwind(panic),
             }
         });
-    let skin = closed.outer(&model_dist, opts.skin_depth * model.height);
     let out_d: Vec<Real> = out_all
         .iter()
         .zip(&on)

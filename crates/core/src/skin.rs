@@ -10,9 +10,12 @@
 //!
 //! # Definitions
 //!
-//! * **Open ends.** A piece is a triangle mesh, consistently oriented,
-//!   whose open ends are loops of *boundary edges*: a directed edge `a → b`
-//!   of one of its triangles whose reverse `b → a` is in none.
+//! * **Open ends.** A piece is an indexed triangle mesh, consistently
+//!   oriented, its triangles sharing their vertices (a tessellated part or
+//!   transition is), whose open ends are loops of *boundary edges*: a
+//!   directed edge `a → b` of one of its triangles whose reverse `b → a`
+//!   is in none. (Faces that do not share their vertices are each closed
+//!   on themselves, which encloses nothing.)
 //! * **A piece's solid.** Every loop is closed by a fan (the loop's cap)
 //!   from the mean of its vertices, the fan's triangles running each
 //!   boundary edge backwards (`b, a, centre`) so the closed surface keeps
@@ -46,29 +49,35 @@
 //! 2. **Depth** of each candidate: the distance to `B`'s triangles (the
 //!    concatenated pieces' hierarchy, [`MeshDistance`], searched only
 //!    through nodes holding some of `B`'s, [`MeshDistance::node_labels`])
-//!    and to `B`'s caps (a small hierarchy over all caps). At most `τ`:
-//!    kept.
+//!    and to `B`'s caps (a small hierarchy over all caps), known exactly
+//!    up to a reach `r` (a little over the largest centroid-to-corner
+//!    distance), `r` beyond: only the candidates within `r` of a leaf of
+//!    `B`'s are searched. At most `τ`: kept.
 //! 3. **Regions**: a candidate at depth `d > τ` has an open ball of radius
-//!    `d` around its centroid that `B`'s closed surface does not enter, so
-//!    every point in it lies on the centroid's side of that surface, in
-//!    particular each corner `v` with `|v − c| < d`. Candidates sharing
-//!    such a corner (union-find over `A`'s vertices) form regions whose
-//!    centroids all lie on one side: the parity is taken once per region,
-//!    from its deepest centroid.
+//!    `d` around its centroid that `B`'s closed surface does not enter.
+//!    Two candidates sharing a corner whose balls overlap along the
+//!    segment between their centroids (`d₁ + d₂ > |c₁ − c₂|`) lie on the
+//!    same side of that surface; so joined (union-find), they form regions
+//!    whose centroids all lie on one side: the parity is taken once per
+//!    region, from its deepest centroid (`min(d, r)` is a lower bound of
+//!    the depth, which is all the join needs).
 //! 4. The members of regions inside `S_B` are dropped.
 //!
-//! The answer is the same as testing every triangle's centroid on its own;
-//! only the work differs (on the built-in body's report surface, 380 000
-//! triangles, a few hundred parity tests).
+//! For a closed surface the parity is the same from every point of a
+//! region and along every ray that meets no edge or vertex, so the answer
+//! is that of testing every centroid on its own; only the work differs (on
+//! the built-in body's report surface, 380 000 triangles: about 12 500
+//! distance queries and 2 100 parity tests).
 
 use crate::distance::{each_on_cores, MeshDistance};
 use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Aabb, Mesh};
 use std::ops::Range;
 
-/// The directions of the parity rays (normalized when cast): fixed, far
-/// apart, none along a coordinate axis or a coordinate plane (where a
-/// tessellation's rows and edges tend to lie).
+/// The directions of the parity rays (about unit length; a ray's parity
+/// does not need them exact): fixed, far apart, none along a coordinate
+/// axis or in a coordinate plane (where a tessellation's rows and edges
+/// tend to lie).
 pub const RAY_DIRECTIONS: [[Real; 3]; 3] = [
     [0.371, 0.524, 0.766],
     [-0.683, 0.296, -0.667],

@@ -133,13 +133,14 @@ fn measurements_do_not_depend_on_placement_or_vertex_order() {
 /// target.
 /// Misses measured and explained in docs/measure.md, held to a bound a
 /// little beyond what was measured (so they cannot grow unnoticed): the
-/// female chest (−5.5 mm) and, since the leg–torso transition bands are
-/// measured with the parts, the volumes (+1.06 / +1.20 / +1.28 %).
-const KNOWN_MISSES: [(&str, &str, f64); 4] = [
+/// female chest (−5.5 mm) and the male and female volumes (+1.10 / +1.07 %;
+/// the base body's is +0.99 %). About half of each volume excess is the
+/// mesh's mouth cavity (0.49-0.58 % of the mesh), which one curve per
+/// section fills; see docs/measure.md.
+const KNOWN_MISSES: [(&str, &str, f64); 3] = [
     ("mh_female.ply", "chest", 0.0065),
-    ("mh_base.obj", "volume", 0.0135),
-    ("mh_male.obj", "volume", 0.0135),
-    ("mh_female.ply", "volume", 0.0135),
+    ("mh_male.obj", "volume", 0.0115),
+    ("mh_female.ply", "volume", 0.0112),
 ];
 
 /// The reconstructed body MODEL measured from its own curves

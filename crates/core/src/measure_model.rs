@@ -74,9 +74,10 @@
 //! Gauss-Legendre per patch (6 for caps), the `v` integrals the trapezoid
 //! rule at `2J + 6` points, `J` the patch's effective order (the
 //! trapezoid rule is exact for trigonometric integrands of order below
-//! the sample count). Against 6-point Gauss-Legendre the volumes of the
-//! three shared bodies' models agree within 5e-6; the area is +5.1e-4
-//! relative on the male model (3 points: −3.8e-4, at 1.5 times the cost).
+//! the sample count). With the 6-point rule swapped in for the parts'
+//! patches the three shared bodies' models' volumes moved by at most
+//! 6e-6; the area is +5.1e-4 relative to it on the male model (3 points:
+//! −3.8e-4, at 1.5 times the cost).
 //! The surface area is `∬ |t_v × t_u|` over the same nodes, open ends not
 //! counted (they are joins).
 //!

@@ -899,9 +899,16 @@ fn part_integrals(part: &Part, up: Vec3, tables: &mut Tables) -> PartIntegrals {
 pub fn volume_area_extent(body: &Body) -> (Real, Real, (Real, Real)) {
     let up = body.frame.up;
     let mut out = (0.0, 0.0, (Real::INFINITY, Real::NEG_INFINITY));
+    // The parts' integrals on the cores (each run with its own tables),
+    // summed in order as one core would.
+    let parts = crate::distance::parallel_map(&body.parts, 1, |run| {
+        let mut tables = Tables::default();
+        run.iter()
+            .map(|p| part_integrals(&p.part, up, &mut tables))
+            .collect()
+    });
     let mut tables = Tables::default();
-    for p in &body.parts {
-        let r = part_integrals(&p.part, up, &mut tables);
+    for r in parts {
         out.0 += r.volume;
         out.1 += r.area;
         out.2 .0 = out.2 .0.min(r.low);
@@ -1192,207 +1199,212 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
     let arm = [PartName::LeftArm, PartName::RightArm]
         .iter()
         .find_map(|&p| body.part(p).map(|b| &b.part));
-    for a in [PartName::LeftArm, PartName::RightArm] {
-        if let Some(a) = body.part(a) {
-            let (v, s) = arm_torso_overlap(torso, &a.part, up, front, body.frame.left, high - low);
-            volume -= v;
-            area -= s;
-        }
-    }
-    let level = |p: Point3| p.dot(up);
-    let first_level = |p: &Part| level(mean_point(&p.curves()[0].world_series()));
-
-    let mut warnings = Vec::new();
-    let mut m = vec![Measurement {
-        name: "stature",
-        kind: MeasurementKind::Height,
-        value: h,
-        iso: Some("stature (body height)"),
-        definition: "extent of the model's surface along its up axis, soles to head top",
-        girth: None,
-    }];
-
-    // Landmarks.
-    let torso_bottom = first_level(torso);
-    let leg_tops: Vec<Real> = [PartName::LeftLeg, PartName::RightLeg]
-        .iter()
-        .filter_map(|&p| body.part(p))
-        .map(|p| first_level(&p.part))
-        .collect();
-    let crotch = if leg_tops.is_empty() {
-        torso_bottom
-    } else {
-        0.5 * (torso_bottom + leg_tops.iter().fold(Real::NEG_INFINITY, |a, &b| a.max(b)))
-    };
-    let armpit = [PartName::LeftArm, PartName::RightArm]
-        .iter()
-        .filter_map(|&p| body.part(p))
-        .map(|p| {
-            p.part.curves()[0]
-                .sample(64)
+    // The arm–torso overlaps (a quarter of the work) on a second core
+    // while the landmarks and girths are found; subtracted in arm order.
+    std::thread::scope(|scope| {
+        let overlaps = scope.spawn(|| {
+            [PartName::LeftArm, PartName::RightArm]
                 .iter()
-                .map(|q| level(*q))
-                .fold(Real::INFINITY, Real::min)
-        })
-        .fold(Real::NEG_INFINITY, Real::max);
-    let torso_top = level(centre(torso, torso.length()));
-    // A horizontal level on the trunk: the torso, or the head above it.
-    let trunk = |lv: Real| -> Option<(&Part, Real)> {
-        if lv <= torso_top {
-            s_at_level(torso, up, lv).map(|s| (torso, s))
-        } else {
-            head.and_then(|hd| s_at_level(hd, up, lv).map(|s| (hd, s)))
-        }
-    };
-    let trunk_tape = |lv: Real| trunk(lv).map(|(p, s)| proxies(&curve_at(p, s), up, front).0);
-
-    let mut girths: Vec<(usize, Result<Girth, MeasureError>)> = Vec::new();
-    let horizontal = |i: usize, lv: Option<Real>| -> Result<Girth, MeasureError> {
-        let name = MODEL_GIRTHS[i].name;
-        let lv = lv.ok_or(MeasureError::EmptySection { measurement: name })?;
-        let (p, s) = trunk(lv).ok_or(MeasureError::EmptySection { measurement: name })?;
-        girth_in_plane(p, s, up, front, h, name, opts)
-    };
-    // Neck: around the head's first section.
-    let neck = match head {
-        Some(hd) => {
-            let base = first_level(hd);
-            horizontal(
-                0,
-                search(base - 0.03 * h, base + 0.06 * h, n, false, trunk_tape),
-            )
-        }
-        None => Err(MeasureError::MissingPart {
-            measurement: "neck",
-            part: PartName::Head,
-        }),
-    };
-    girths.push((0, neck));
-    if armpit.is_finite() {
-        let chest = armpit - opts.chest_below_armpit * h;
-        girths.push((1, horizontal(1, Some(chest))));
-        let waist = search(
-            crotch + 0.35 * (chest - crotch),
-            crotch + 0.85 * (chest - crotch),
-            n,
-            false,
-            trunk_tape,
-        );
-        girths.push((2, horizontal(2, waist)));
-        let hip = waist.and_then(|w| {
-            search(
-                (crotch + opts.hip_search_start * h).max(torso_bottom),
-                w,
-                n,
-                true,
-                trunk_tape,
-            )
+                .filter_map(|&a| body.part(a))
+                .map(|a| arm_torso_overlap(torso, &a.part, up, front, body.frame.left, high - low))
+                .collect::<Vec<_>>()
         });
-        girths.push((3, horizontal(3, hip)));
-    } else {
-        warnings.push("chest, waist, hip: no arm, so no armpit level".to_string());
-    }
+        let level = |p: Point3| p.dot(up);
+        let first_level = |p: &Part| level(mean_point(&p.curves()[0].world_series()));
 
-    // Legs.
-    let w = opts.axis_window * h;
-    match leg {
-        Some(lg) => {
-            let floor = low;
-            let ankle_lo = s_at_level(lg, up, floor + 0.15 * h);
-            let ankle_hi = s_at_level(lg, up, floor + 0.035 * h);
-            let top = s_at_level(lg, up, crotch - opts.leg_start_below_crotch * h).unwrap_or(0.0);
-            let radius = |s: Real| {
-                let ax = limb_axis(lg, s, w, 0.0, lg.length())?;
-                Some(equivalent_radius(&curve_at(lg, s), ax))
-            };
-            match ankle_lo.zip(ankle_hi) {
-                Some((a, b)) => {
-                    let ankle = search(a, b, n, false, radius).unwrap_or(b);
-                    let at = |t: Real| top + t * (ankle - top);
-                    let calf = search(at(0.55), at(0.85), n, true, radius).unwrap_or(at(0.7));
-                    for (i, s) in [(4, at(0.1)), (5, at(0.45)), (6, calf), (7, ankle)] {
-                        let name = MODEL_GIRTHS[i].name;
-                        let g = limb_axis(lg, s, w, top, ankle)
-                            .ok_or(MeasureError::EmptySection { measurement: name })
-                            .and_then(|ax| girth_in_plane(lg, s, ax, front, h, name, opts));
-                        girths.push((i, g));
+        let mut warnings = Vec::new();
+        let mut m = vec![Measurement {
+            name: "stature",
+            kind: MeasurementKind::Height,
+            value: h,
+            iso: Some("stature (body height)"),
+            definition: "extent of the model's surface along its up axis, soles to head top",
+            girth: None,
+        }];
+
+        // Landmarks.
+        let torso_bottom = first_level(torso);
+        let leg_tops: Vec<Real> = [PartName::LeftLeg, PartName::RightLeg]
+            .iter()
+            .filter_map(|&p| body.part(p))
+            .map(|p| first_level(&p.part))
+            .collect();
+        let crotch = if leg_tops.is_empty() {
+            torso_bottom
+        } else {
+            0.5 * (torso_bottom + leg_tops.iter().fold(Real::NEG_INFINITY, |a, &b| a.max(b)))
+        };
+        let armpit = [PartName::LeftArm, PartName::RightArm]
+            .iter()
+            .filter_map(|&p| body.part(p))
+            .map(|p| {
+                p.part.curves()[0]
+                    .sample(64)
+                    .iter()
+                    .map(|q| level(*q))
+                    .fold(Real::INFINITY, Real::min)
+            })
+            .fold(Real::NEG_INFINITY, Real::max);
+        let torso_top = level(centre(torso, torso.length()));
+        // A horizontal level on the trunk: the torso, or the head above it.
+        let trunk = |lv: Real| -> Option<(&Part, Real)> {
+            if lv <= torso_top {
+                s_at_level(torso, up, lv).map(|s| (torso, s))
+            } else {
+                head.and_then(|hd| s_at_level(hd, up, lv).map(|s| (hd, s)))
+            }
+        };
+        let trunk_tape = |lv: Real| trunk(lv).map(|(p, s)| proxies(&curve_at(p, s), up, front).0);
+
+        let mut girths: Vec<(usize, Result<Girth, MeasureError>)> = Vec::new();
+        let horizontal = |i: usize, lv: Option<Real>| -> Result<Girth, MeasureError> {
+            let name = MODEL_GIRTHS[i].name;
+            let lv = lv.ok_or(MeasureError::EmptySection { measurement: name })?;
+            let (p, s) = trunk(lv).ok_or(MeasureError::EmptySection { measurement: name })?;
+            girth_in_plane(p, s, up, front, h, name, opts)
+        };
+        // Neck: around the head's first section.
+        let neck = match head {
+            Some(hd) => {
+                let base = first_level(hd);
+                horizontal(
+                    0,
+                    search(base - 0.03 * h, base + 0.06 * h, n, false, trunk_tape),
+                )
+            }
+            None => Err(MeasureError::MissingPart {
+                measurement: "neck",
+                part: PartName::Head,
+            }),
+        };
+        girths.push((0, neck));
+        if armpit.is_finite() {
+            let chest = armpit - opts.chest_below_armpit * h;
+            girths.push((1, horizontal(1, Some(chest))));
+            let waist = search(
+                crotch + 0.35 * (chest - crotch),
+                crotch + 0.85 * (chest - crotch),
+                n,
+                false,
+                trunk_tape,
+            );
+            girths.push((2, horizontal(2, waist)));
+            let hip = waist.and_then(|w| {
+                search(
+                    (crotch + opts.hip_search_start * h).max(torso_bottom),
+                    w,
+                    n,
+                    true,
+                    trunk_tape,
+                )
+            });
+            girths.push((3, horizontal(3, hip)));
+        } else {
+            warnings.push("chest, waist, hip: no arm, so no armpit level".to_string());
+        }
+
+        // Legs.
+        let w = opts.axis_window * h;
+        match leg {
+            Some(lg) => {
+                let floor = low;
+                let ankle_lo = s_at_level(lg, up, floor + 0.15 * h);
+                let ankle_hi = s_at_level(lg, up, floor + 0.035 * h);
+                let top =
+                    s_at_level(lg, up, crotch - opts.leg_start_below_crotch * h).unwrap_or(0.0);
+                let radius = |s: Real| {
+                    let ax = limb_axis(lg, s, w, 0.0, lg.length())?;
+                    Some(equivalent_radius(&curve_at(lg, s), ax))
+                };
+                match ankle_lo.zip(ankle_hi) {
+                    Some((a, b)) => {
+                        let ankle = search(a, b, n, false, radius).unwrap_or(b);
+                        let at = |t: Real| top + t * (ankle - top);
+                        let calf = search(at(0.55), at(0.85), n, true, radius).unwrap_or(at(0.7));
+                        for (i, s) in [(4, at(0.1)), (5, at(0.45)), (6, calf), (7, ankle)] {
+                            let name = MODEL_GIRTHS[i].name;
+                            let g = limb_axis(lg, s, w, top, ankle)
+                                .ok_or(MeasureError::EmptySection { measurement: name })
+                                .and_then(|ax| girth_in_plane(lg, s, ax, front, h, name, opts));
+                            girths.push((i, g));
+                        }
+                    }
+                    None => warnings
+                        .push("thigh, knee, calf, ankle: the leg does not reach the ankle".into()),
+                }
+            }
+            None => warnings.push("thigh, knee, calf, ankle, inseam: no leg".into()),
+        }
+
+        // Arms.
+        let mut arm_length = None;
+        match arm {
+            Some(a) => {
+                let l = a.length();
+                let tape = |s: Real| {
+                    let ax = limb_axis(a, s, w, 0.0, l)?;
+                    Some(proxies(&curve_at(a, s), ax, front))
+                };
+                // Wrist: the smallest girth followed distally by one 15 % larger.
+                let levels: Vec<(Real, Real, Real)> = (0..2 * n)
+                    .filter_map(|i| {
+                        let s = l * (0.45 + 0.52 * i as Real / (2 * n - 1) as Real);
+                        tape(s).map(|(t, r)| (s, t, r))
+                    })
+                    .collect();
+                let mut wrist = None::<(Real, Real)>;
+                for (k, &(s, t, _)) in levels.iter().enumerate() {
+                    let beyond = levels[k..].iter().map(|x| x.1).fold(0.0, Real::max);
+                    if beyond >= 1.15 * t && wrist.is_none_or(|(_, b)| t < b) {
+                        wrist = Some((s, t));
                     }
                 }
-                None => warnings
-                    .push("thigh, knee, calf, ankle: the leg does not reach the ankle".into()),
-            }
-        }
-        None => warnings.push("thigh, knee, calf, ankle, inseam: no leg".into()),
-    }
-
-    // Arms.
-    let mut arm_length = None;
-    match arm {
-        Some(a) => {
-            let l = a.length();
-            let tape = |s: Real| {
-                let ax = limb_axis(a, s, w, 0.0, l)?;
-                Some(proxies(&curve_at(a, s), ax, front))
-            };
-            // Wrist: the smallest girth followed distally by one 15 % larger.
-            let levels: Vec<(Real, Real, Real)> = (0..2 * n)
-                .filter_map(|i| {
-                    let s = l * (0.45 + 0.52 * i as Real / (2 * n - 1) as Real);
-                    tape(s).map(|(t, r)| (s, t, r))
+                let wrist = match wrist {
+                    Some((s, _)) => s,
+                    None => {
+                        warnings.push("wrist: no hand wider than the wrist found; the arm's narrowest place is used".into());
+                        levels
+                            .iter()
+                            .min_by(|x, y| x.1.total_cmp(&y.1))
+                            .map_or(0.75 * l, |x| x.0)
+                    }
+                };
+                arm_length = Some(wrist);
+                let at = |t: Real| t * wrist;
+                let forearm = search(at(0.62), at(0.8), n, true, |s| {
+                    let ax = limb_axis(a, s, w, 0.0, l)?;
+                    Some(equivalent_radius(&curve_at(a, s), ax))
                 })
-                .collect();
-            let mut wrist = None::<(Real, Real)>;
-            for (k, &(s, t, _)) in levels.iter().enumerate() {
-                let beyond = levels[k..].iter().map(|x| x.1).fold(0.0, Real::max);
-                if beyond >= 1.15 * t && wrist.is_none_or(|(_, b)| t < b) {
-                    wrist = Some((s, t));
+                .unwrap_or(at(0.7));
+                for (i, s) in [(8, at(0.28)), (9, at(0.56)), (10, forearm), (11, wrist)] {
+                    let name = MODEL_GIRTHS[i].name;
+                    let g = limb_axis(a, s, w, 0.0, wrist)
+                        .ok_or(MeasureError::EmptySection { measurement: name })
+                        .and_then(|ax| girth_in_plane(a, s, ax, front, h, name, opts));
+                    girths.push((i, g));
                 }
             }
-            let wrist = match wrist {
-                Some((s, _)) => s,
-                None => {
-                    warnings.push("wrist: no hand wider than the wrist found; the arm's narrowest place is used".into());
-                    levels
-                        .iter()
-                        .min_by(|x, y| x.1.total_cmp(&y.1))
-                        .map_or(0.75 * l, |x| x.0)
-                }
-            };
-            arm_length = Some(wrist);
-            let at = |t: Real| t * wrist;
-            let forearm = search(at(0.62), at(0.8), n, true, |s| {
-                let ax = limb_axis(a, s, w, 0.0, l)?;
-                Some(equivalent_radius(&curve_at(a, s), ax))
-            })
-            .unwrap_or(at(0.7));
-            for (i, s) in [(8, at(0.28)), (9, at(0.56)), (10, forearm), (11, wrist)] {
-                let name = MODEL_GIRTHS[i].name;
-                let g = limb_axis(a, s, w, 0.0, wrist)
-                    .ok_or(MeasureError::EmptySection { measurement: name })
-                    .and_then(|ax| girth_in_plane(a, s, ax, front, h, name, opts));
-                girths.push((i, g));
+            None => warnings.push(
+                "upper arm, elbow, forearm, wrist, arm length, shoulder breadth: no arm".into(),
+            ),
+        }
+        girths.sort_by_key(|g| g.0);
+        for (i, g) in girths {
+            let d = &MODEL_GIRTHS[i];
+            match g {
+                Ok(g) => m.push(Measurement {
+                    name: d.name,
+                    kind: MeasurementKind::Girth,
+                    value: g.tape,
+                    iso: Some(d.iso),
+                    definition: d.definition,
+                    girth: Some(g),
+                }),
+                Err(e) => warnings.push(format!("{}: {e}", d.name)),
             }
         }
-        None => warnings
-            .push("upper arm, elbow, forearm, wrist, arm length, shoulder breadth: no arm".into()),
-    }
-    girths.sort_by_key(|g| g.0);
-    for (i, g) in girths {
-        let d = &MODEL_GIRTHS[i];
-        match g {
-            Ok(g) => m.push(Measurement {
-                name: d.name,
-                kind: MeasurementKind::Girth,
-                value: g.tape,
-                iso: Some(d.iso),
-                definition: d.definition,
-                girth: Some(g),
-            }),
-            Err(e) => warnings.push(format!("{}: {e}", d.name)),
-        }
-    }
-    if leg.is_some() {
-        m.push(Measurement {
+        if leg.is_some() {
+            m.push(Measurement {
             name: "inseam",
             kind: MeasurementKind::Height,
             value: crotch - low,
@@ -1400,9 +1412,9 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
             definition: "height above the soles of the crotch: halfway between the torso's first section and the legs' first sections",
             girth: None,
         });
-    }
-    if let Some(len) = arm_length {
-        m.push(Measurement {
+        }
+        if let Some(len) = arm_length {
+            m.push(Measurement {
             name: "arm length",
             kind: MeasurementKind::Length,
             value: len,
@@ -1410,8 +1422,8 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
             definition: "arc length of the arm's centre line from its first section (shoulder) to the wrist",
             girth: None,
         });
-    }
-    match (body.part(PartName::LeftArm), body.part(PartName::RightArm)) {
+        }
+        match (body.part(PartName::LeftArm), body.part(PartName::RightArm)) {
         (Some(l), Some(r)) => m.push(Measurement {
             name: "shoulder breadth",
             kind: MeasurementKind::Breadth,
@@ -1422,19 +1434,28 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
         }),
         _ => warnings.push("shoulder breadth: both arms are needed".into()),
     }
-    Ok(Measurements {
-        measurements: m,
-        volume: Comparison {
-            model: volume,
-            mesh: Real::NAN,
-        },
-        surface_area: Comparison {
-            model: area,
-            mesh: Real::NAN,
-        },
-        slice_curves: Vec::new(),
-        slice_spacing: 0.0,
-        warnings,
+        let overlaps = match overlaps.join() {
+            Ok(o) => o,
+            Err(panic) => std::panic::resume_unwind(panic),
+        };
+        for (v, s) in overlaps {
+            volume -= v;
+            area -= s;
+        }
+        Ok(Measurements {
+            measurements: m,
+            volume: Comparison {
+                model: volume,
+                mesh: Real::NAN,
+            },
+            surface_area: Comparison {
+                model: area,
+                mesh: Real::NAN,
+            },
+            slice_curves: Vec::new(),
+            slice_spacing: 0.0,
+            warnings,
+        })
     })
 }
 

@@ -126,15 +126,16 @@ fn measurements_do_not_depend_on_placement_or_vertex_order() {
 }
 
 /// Misses measured and explained in docs/measure.md, held to a bound a
-/// little beyond what was measured (so they cannot grow unnoticed): since
-/// the leg–torso transition bands are measured with the parts, the
-/// volumes (+1.06 / +1.20 / +1.28 %). Every other comparison must meet the
-/// issue's target (the female chest did not, −5.5 mm, until the torso's
-/// order choice checked the tape girth: now −3.3 mm).
-const KNOWN_MISSES: [(&str, &str, f64); 3] = [
-    ("mh_base.obj", "volume", 0.0135),
-    ("mh_male.obj", "volume", 0.0135),
-    ("mh_female.ply", "volume", 0.0135),
+/// little beyond what was measured (so they cannot grow unnoticed): the
+/// male and female volumes (+1.10 / +1.07 %; the base body's is +0.99 %).
+/// About half of each volume excess is the mesh's mouth cavity (0.49-0.58 %
+/// of the mesh), which one curve per section fills; see docs/measure.md.
+/// Every other comparison must meet the target (the female chest
+/// did not, −5.5 mm, until the torso's order choice checked the tape
+/// girth: now −3.3 mm).
+const KNOWN_MISSES: [(&str, &str, f64); 2] = [
+    ("mh_male.obj", "volume", 0.0115),
+    ("mh_female.ply", "volume", 0.0112),
 ];
 
 /// The reconstructed body MODEL measured from its own curves

@@ -7,7 +7,7 @@ use clap::Args;
 use std::path::PathBuf;
 use trigbody_core::{Real, TessellationOptions};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
-use trigbody_io::model::{merge_pieces, read_model};
+use trigbody_io::model::{merge_pieces, read_model, skin_pieces};
 use trigbody_io::{write_mesh, Format, WriteOptions};
 
 /// Arguments of `trigbody mesh`.
@@ -30,9 +30,31 @@ pub struct MeshArgs {
     /// Target edge length in model units (overrides --around, --along, --cap-rings).
     #[arg(long)]
     pub edge: Option<Real>,
+    /// Which surface to write: every piece whole, or only the model's
+    /// outer skin (each piece's triangles inside another piece left out).
+    #[arg(long, value_enum, default_value_t = SkinFlag::Whole)]
+    pub skin: SkinFlag,
     /// Replace an existing output file.
     #[arg(long)]
     pub force: bool,
+}
+
+/// `--skin`: the surface an export writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SkinFlag {
+    /// Every piece's whole tessellation.
+    Whole,
+    /// The boundary of the union of the pieces.
+    Outer,
+}
+
+impl From<SkinFlag> for trigbody_io::model::Skin {
+    fn from(s: SkinFlag) -> Self {
+        match s {
+            SkinFlag::Whole => trigbody_io::model::Skin::Whole,
+            SkinFlag::Outer => trigbody_io::model::Skin::Outer,
+        }
+    }
 }
 
 pub fn run(args: MeshArgs) -> Result<()> {
@@ -66,6 +88,7 @@ pub fn run(args: MeshArgs) -> Result<()> {
     let pieces = model
         .tessellate_pieces(&options)
         .map_err(|e| bad(e.to_string()))?;
+    let pieces = skin_pieces(&model, pieces, args.skin.into());
     if glb {
         let named: Vec<NamedMesh> = pieces
             .iter()

@@ -14,7 +14,7 @@ use trigbody_core::segment::BodyGeometry;
 use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
-use trigbody_io::model::{merge_pieces, write_model};
+use trigbody_io::model::{merge_pieces, skin_pieces, write_model};
 use trigbody_io::{
     read_bytes, read_geometry, write_mesh, Format, Geometry, ReadOptions, WriteOptions,
 };
@@ -43,6 +43,10 @@ pub struct ReconstructArgs {
     /// A mesh of the model's surface: .glb (one node per part), .obj, .ply, .stl.
     #[arg(long)]
     pub mesh: Option<PathBuf>,
+    /// The surface `--mesh` writes: every piece whole, or only the model's
+    /// outer skin (each piece's triangles inside another piece left out).
+    #[arg(long, value_enum, default_value_t = crate::cmd_mesh::SkinFlag::Whole)]
+    pub skin: crate::cmd_mesh::SkinFlag,
     /// The report as JSON.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -118,6 +122,10 @@ fn table(r: &Report) -> String {
             x.rms, x.p95, x.max
         )
     };
+    t.push_str(&format!(
+        "distances to and from the model's outer skin ({:.1} % of its pieces' area lies inside other pieces)\n",
+        100.0 * r.interior_area_share
+    ));
     t.push_str(&d("distance", &r.distance_mm));
     t.push_str(&d("  input->model", &r.input_to_model_mm));
     t.push_str(&d("  model->input", &r.model_to_input_mm));
@@ -188,9 +196,11 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             target_edge: Some(0.004 * model.height),
             ..TessellationOptions::default()
         };
-        let pieces = model_of_body(&model)
+        let file_model = model_of_body(&model);
+        let pieces = file_model
             .tessellate_pieces(&tess)
             .map_err(|e| bad(format!("{name}: {e}")))?;
+        let pieces = skin_pieces(&file_model, pieces, args.skin.into());
         let ext = path
             .extension()
             .and_then(|e| e.to_str())

@@ -75,6 +75,37 @@ fn built_in_body_writes_model_mesh_and_report() {
         .args(["mesh", "m.json", "-o", "again.obj"])
         .assert()
         .success();
+    // The report's interior share is between 0 and 1, and `--skin outer`
+    // writes that much less of the surface (same tessellation edge).
+    let share = report["interior_area_share"].as_f64().unwrap();
+    assert!(share > 0.0 && share < 0.1, "{share}");
+    trigbody()
+        .current_dir(&d)
+        .args([
+            "mesh",
+            "m.json",
+            "-o",
+            "outer.obj",
+            "--edge",
+            "0.005",
+            "--skin",
+            "outer",
+        ])
+        .assert()
+        .success();
+    trigbody()
+        .current_dir(&d)
+        .args(["mesh", "m.json", "-o", "whole.obj", "--edge", "0.005"])
+        .assert()
+        .success();
+    let read = |f: &str| trigbody_io::read_mesh(d.join(f), &Default::default()).unwrap();
+    let (outer, whole) = (read("outer.obj"), read("whole.obj"));
+    let (a_outer, a_whole) = (outer.surface_area(), whole.surface_area());
+    assert!(a_outer < a_whole, "{a_outer} {a_whole}");
+    assert!(
+        (1.0 - a_outer / a_whole - share).abs() < 0.01,
+        "{a_outer} {a_whole} {share}"
+    );
     // Outputs are not overwritten without --force.
     let again = trigbody()
         .current_dir(&d)

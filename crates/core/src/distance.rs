@@ -197,6 +197,11 @@ impl<'m> MeshDistance<'m> {
         MeshDistance { mesh, nodes, order }
     }
 
+    /// The mesh the hierarchy is over.
+    pub fn mesh(&self) -> &'m Mesh {
+        self.mesh
+    }
+
     /// The distance from each of `points` to the surface (infinite for an
     /// empty mesh), exactly as [`MeshDistance::distance`], faster: the
     /// points are visited in Morton order ([`coherent_map`]) and each search
@@ -204,10 +209,27 @@ impl<'m> MeshDistance<'m> {
     /// (usually the answer or close to it) prunes the hierarchy from the
     /// root.
     pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
+        self.distances_where(points, Real::INFINITY, |_| true, |_| true)
+    }
+
+    /// [`MeshDistance::distances`] to the triangles `t` with `triangle(t)`
+    /// only, closer than `max_distance` (infinite where there is none; a
+    /// bound makes far queries cheap), searching only the nodes `n` with
+    /// `node(n)`: `node` must hold for every node with such a triangle
+    /// below it (e.g. a bit of [`MeshDistance::node_labels`]); where it
+    /// holds for others it only prunes less.
+    pub fn distances_where(
+        &self,
+        points: &[Point3],
+        max_distance: Real,
+        node: impl Fn(usize) -> bool + Sync,
+        triangle: impl Fn(usize) -> bool + Sync,
+    ) -> Vec<Real> {
+        let max_sq = max_distance * max_distance;
         coherent_map(points, |p, seed: &mut Option<usize>| {
             let c = match *seed {
-                Some(t) => self.closest_from(p, t),
-                None => self.closest(p),
+                Some(t) => self.closest_from(p, t, max_sq, &node, &triangle),
+                None => self.search(p, max_sq, None, &node, &triangle),
             };
             *seed = c.map(|c| c.triangle);
             c.map_or(Real::INFINITY, |c| c.distance)
@@ -221,35 +243,141 @@ impl<'m> MeshDistance<'m> {
 
     /// The nearest surface point closer than `max_distance`, if any.
     pub fn closest_within(&self, p: Point3, max_distance: Real) -> Option<Closest> {
-        self.search(p, max_distance * max_distance, None)
+        let all = |_| true;
+        self.search(p, max_distance * max_distance, None, &all, &all)
     }
 
-    /// The nearest surface point, starting from triangle `seed`: its
-    /// distance bounds the search, and it is the answer unless a triangle
-    /// lies strictly closer (so the distance is exactly
-    /// [`MeshDistance::distance`]'s).
-    fn closest_from(&self, p: Point3, seed: usize) -> Option<Closest> {
-        let [a, b, c] = self.mesh.triangle(seed);
-        let q = closest_point_on_triangle(p, a, b, c);
-        let d = (q - p).norm_squared();
-        if d.is_finite() {
-            self.search(p, d, Some((q, seed)))
-        } else {
-            self.closest(p)
+    /// For every node of the hierarchy, the bitwise or of `label(t)` over
+    /// the triangles `t` below it (indexed as the `node` arguments of the
+    /// `_where` queries): with triangles selected by a bit of their label,
+    /// `node(n) = labels[n] & bit != 0` skips the subtrees without any.
+    pub fn node_labels(&self, label: impl Fn(usize) -> u64) -> Vec<u64> {
+        let mut labels = vec![0u64; self.nodes.len()];
+        // Children come after their parents: bottom-up.
+        for ni in (0..self.nodes.len()).rev() {
+            let node = self.nodes[ni];
+            let s = node.start as usize;
+            labels[ni] = if node.count > 0 {
+                self.order[s..s + node.count as usize]
+                    .iter()
+                    .fold(0, |a, &t| a | label(t as usize))
+            } else {
+                labels[s] | labels[s + 1]
+            };
+        }
+        labels
+    }
+
+    /// How many triangles `t` with `triangle(t)` the segment `o + s d`,
+    /// `0 < s < length` (a ray for an infinite length), crosses
+    /// (Möller-Trumbore; a ray through an edge or a vertex may count a
+    /// crossing twice or not at all), searching only the nodes `n` with
+    /// `node(n)` (as in [`MeshDistance::distances_where`]).
+    pub fn ray_crossings_where(
+        &self,
+        o: Point3,
+        d: Vec3,
+        length: Real,
+        node: impl Fn(usize) -> bool,
+        triangle: impl Fn(usize) -> bool,
+    ) -> usize {
+        use crate::visibility::{ray_box, ray_triangle};
+        let inv = Vec3::new(1.0 / d.x, 1.0 / d.y, 1.0 / d.z);
+        let mut crossings = 0;
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push(0);
+        }
+        while let Some(ni) = stack.pop() {
+            let n = &self.nodes[ni as usize];
+            if !node(ni as usize) || ray_box(&n.bounds, o, inv, length).is_none() {
+                continue;
+            }
+            let s = n.start as usize;
+            if n.count > 0 {
+                crossings += self.order[s..s + n.count as usize]
+                    .iter()
+                    .filter(|&&t| {
+                        triangle(t as usize)
+                            && ray_triangle(o, d, self.mesh.triangle(t as usize))
+                                .is_some_and(|h| h > 0.0 && h < length)
+                    })
+                    .count();
+            } else {
+                stack.push(n.start);
+                stack.push(n.start + 1);
+            }
+        }
+        crossings
+    }
+
+    /// Calls `visit` with the box of every leaf of the hierarchy that meets
+    /// `region`, searching only the nodes `n` with `node(n)` (a leaf's box
+    /// holds all its triangles, selected or not).
+    pub fn leaves_where(
+        &self,
+        region: &Aabb,
+        node: impl Fn(usize) -> bool,
+        mut visit: impl FnMut(&Aabb),
+    ) {
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push(0);
+        }
+        while let Some(ni) = stack.pop() {
+            let n = &self.nodes[ni as usize];
+            if !node(ni as usize) || !n.bounds.overlaps(region) {
+                continue;
+            }
+            if n.count > 0 {
+                visit(&n.bounds);
+            } else {
+                stack.push(n.start);
+                stack.push(n.start + 1);
+            }
         }
     }
 
-    /// Depth-first search for the nearest triangle closer than `√best_sq`
-    /// (else `best`), nearer child first; a node is entered only while its
-    /// box is closer than the best so far.
+    /// The nearest selected surface point closer than `√max_sq`, starting
+    /// from triangle `seed` (selected): its distance bounds the search, and
+    /// it is the answer unless a selected triangle lies strictly closer (so
+    /// the distance is exactly an unseeded search's).
+    fn closest_from(
+        &self,
+        p: Point3,
+        seed: usize,
+        max_sq: Real,
+        node: &impl Fn(usize) -> bool,
+        triangle: &impl Fn(usize) -> bool,
+    ) -> Option<Closest> {
+        let [a, b, c] = self.mesh.triangle(seed);
+        let q = closest_point_on_triangle(p, a, b, c);
+        let d = (q - p).norm_squared();
+        if d < max_sq {
+            self.search(p, d, Some((q, seed)), node, triangle)
+        } else {
+            self.search(p, max_sq, None, node, triangle)
+        }
+    }
+
+    /// Depth-first search for the nearest triangle `t` with `triangle(t)`
+    /// closer than `√best_sq` (else `best`), nearer child first; a node `n`
+    /// is entered only while `node(n)` holds and its box is closer than the
+    /// best so far.
     fn search(
         &self,
         p: Point3,
         mut best_sq: Real,
         mut best: Option<(Point3, usize)>,
+        node_ok: &impl Fn(usize) -> bool,
+        triangle_ok: &impl Fn(usize) -> bool,
     ) -> Option<Closest> {
-        if self.nodes.is_empty() {
-            return None;
+        if self.nodes.is_empty() || !node_ok(0) {
+            return best.map(|(point, triangle)| Closest {
+                point,
+                distance: best_sq.sqrt(),
+                triangle,
+            });
         }
         let mut stack: Vec<(u32, Real)> = Vec::with_capacity(64);
         stack.push((0, box_distance_sq(&self.nodes[0].bounds, p)));
@@ -261,6 +389,9 @@ impl<'m> MeshDistance<'m> {
             if node.count > 0 {
                 let s = node.start as usize;
                 for &t in &self.order[s..s + node.count as usize] {
+                    if !triangle_ok(t as usize) {
+                        continue;
+                    }
                     let [a, b, c] = self.mesh.triangle(t as usize);
                     let q = closest_point_on_triangle(p, a, b, c);
                     let d = (q - p).norm_squared();
@@ -271,8 +402,14 @@ impl<'m> MeshDistance<'m> {
                 }
             } else {
                 let (l, r) = (node.start, node.start + 1);
-                let dl = box_distance_sq(&self.nodes[l as usize].bounds, p);
-                let dr = box_distance_sq(&self.nodes[r as usize].bounds, p);
+                let box_sq = |c: u32| {
+                    if node_ok(c as usize) {
+                        box_distance_sq(&self.nodes[c as usize].bounds, p)
+                    } else {
+                        Real::INFINITY
+                    }
+                };
+                let (dl, dr) = (box_sq(l), box_sq(r));
                 // Visit the nearer child first (pushed last).
                 let (near, far) = if dl <= dr {
                     ((l, dl), (r, dr))
@@ -337,6 +474,12 @@ impl DistanceStats {
 /// `count` ≥ triangles). Good for densely sampling a surface to compare it
 /// with another.
 pub fn sample_surface(mesh: &Mesh, count: usize) -> Vec<Point3> {
+    sample_surface_on_triangles(mesh, count).0
+}
+
+/// [`sample_surface`]'s points, for each the triangle it lies on, and the
+/// mesh's area.
+pub fn sample_surface_on_triangles(mesh: &Mesh, count: usize) -> (Vec<Point3>, Vec<u32>, Real) {
     let areas: Vec<Real> = (0..mesh.triangles.len())
         .map(|t| {
             let [a, b, c] = mesh.triangle(t);
@@ -345,9 +488,10 @@ pub fn sample_surface(mesh: &Mesh, count: usize) -> Vec<Point3> {
         .collect();
     let total: Real = areas.iter().sum();
     if !(total > 0.0) {
-        return Vec::new();
+        return (Vec::new(), Vec::new(), total);
     }
     let mut out = Vec::with_capacity(count + mesh.triangles.len());
+    let mut on = Vec::with_capacity(count + mesh.triangles.len());
     let mut carry = 0.0;
     for (t, area) in areas.iter().enumerate() {
         carry += count as Real * area / total;
@@ -365,9 +509,10 @@ pub fn sample_surface(mesh: &Mesh, count: usize) -> Vec<Point3> {
                 (u, v) = (1.0 - u, 1.0 - v);
             }
             out.push(a + (b - a) * u + (c - a) * v);
+            on.push(t as u32);
         }
     }
-    out
+    (out, on, total)
 }
 
 /// Distances of `points` to the surface of `target`, one per point (see
@@ -439,6 +584,42 @@ pub fn parallel_map<T: Sync, R: Send>(
     })
 }
 
+/// `f` of every item, in order, the items taken one at a time by the
+/// cores as they come free (an atomic counter): items of very different
+/// cost (a torso and a transition) balance better than in fixed runs.
+pub(crate) fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let threads = cores.min(items.len());
+    if threads <= 1 {
+        return items.iter().map(f).collect();
+    }
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            if i >= items.len() {
+                return done;
+            }
+            done.push((i, f(&items[i])));
+        }
+    };
+    let mut all: Vec<(usize, R)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let mut all = work();
+        for h in handles {
+            match h.join() {
+                Ok(part) => all.extend(part),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        all
+    });
+    all.sort_by_key(|(i, _)| *i);
+    all.into_iter().map(|(_, r)| r).collect()
+}
+
 /// The triangles' order along a Morton curve of their box centres and the
 /// codes in that order (see [`MeshDistance::new`]): 10 bits per axis of
 /// the centres' bounding box, interleaved; sorted by an LSD radix sort
@@ -507,6 +688,16 @@ mod tests {
     use super::*;
     use crate::assert_near;
 
+    /// Work taken as the cores come free still comes back in order.
+    #[test]
+    fn each_on_cores_keeps_the_order() {
+        let items: Vec<u64> = (0..37).map(|i| (i * 7919) % 101).collect();
+        let slow = |&x: &u64| (0..x * 1000).fold(x, |a, k| a.wrapping_mul(31).wrapping_add(k));
+        let expected: Vec<u64> = items.iter().map(slow).collect();
+        assert_eq!(each_on_cores(&items, slow), expected);
+        assert!(each_on_cores(&[] as &[u64], slow).is_empty());
+    }
+
     fn brute(mesh: &Mesh, p: Point3) -> Real {
         (0..mesh.triangles.len())
             .map(|t| {
@@ -556,6 +747,89 @@ mod tests {
         // Degenerate triangle: a segment.
         let d = closest_point_on_triangle(Vec3::new(0.5, 1.0, 0.0), a, b, b);
         assert!((d - Vec3::new(0.5, 0.0, 0.0)).norm() < 1e-15);
+    }
+
+    /// The selective queries agree with brute force over the selected
+    /// triangles: distances (bounded or not), ray crossings, leaves.
+    #[test]
+    fn selected_queries_match_brute_force() {
+        let m = sphere(12);
+        let bvh = MeshDistance::new(&m);
+        // Select the triangles of the upper half by a label bit.
+        let upper = |t: usize| m.triangle(t).iter().all(|p| p.z > 0.0);
+        let labels = bvh.node_labels(|t| if upper(t) { 2 } else { 1 });
+        let node = |n: usize| labels[n] & 2 != 0;
+        let points: Vec<Point3> = (0..300)
+            .map(|i| {
+                let t = i as Real * 0.37;
+                Vec3::new(t.cos(), t.sin(), (t * 0.13).sin()) * (0.1 + (i % 9) as Real * 0.2)
+            })
+            .collect();
+        let brute_upper = |p: Point3| {
+            (0..m.triangles.len())
+                .filter(|&t| upper(t))
+                .map(|t| {
+                    let [a, b, c] = m.triangle(t);
+                    (closest_point_on_triangle(p, a, b, c) - p).norm()
+                })
+                .fold(Real::INFINITY, Real::min)
+        };
+        let all = bvh.distances_where(&points, Real::INFINITY, node, upper);
+        let near = bvh.distances_where(&points, 0.3, node, upper);
+        for (i, &p) in points.iter().enumerate() {
+            let b = brute_upper(p);
+            assert_near!(all[i], b, 1e-14);
+            if b < 0.3 {
+                assert_near!(near[i], b, 1e-14);
+            } else {
+                assert!(near[i].is_infinite());
+            }
+            // A ray from inside the sphere crosses the upper half once
+            // going up and not at all going down (away from the equator).
+            if p.norm() < 0.9 && p.z > 0.05 {
+                assert_eq!(
+                    bvh.ray_crossings_where(
+                        p,
+                        Vec3::new(0.01, 0.02, 1.0),
+                        Real::INFINITY,
+                        node,
+                        upper
+                    ),
+                    1
+                );
+                assert_eq!(
+                    bvh.ray_crossings_where(
+                        p,
+                        Vec3::new(0.01, 0.02, -1.0),
+                        Real::INFINITY,
+                        node,
+                        upper
+                    ),
+                    0
+                );
+                // A segment that stops inside crosses nothing.
+                let short = (0.99 - p.norm()).max(0.0) * 0.5;
+                assert_eq!(
+                    bvh.ray_crossings_where(p, Vec3::new(0.0, 0.0, 1.0), short, node, upper),
+                    0
+                );
+            }
+        }
+        // Every selected triangle's box lies in a visited leaf box.
+        let region = Aabb {
+            min: Vec3::new(-0.2, -0.2, 0.5),
+            max: Vec3::new(0.2, 0.2, 2.0),
+        };
+        let mut leaves = Vec::new();
+        bvh.leaves_where(&region, node, |b| leaves.push(*b));
+        for t in (0..m.triangles.len()).filter(|&t| upper(t) && tri_bounds(&m, t).overlaps(&region))
+        {
+            let b = tri_bounds(&m, t);
+            assert!(leaves
+                .iter()
+                .any(|l| l.min.min(b.min) == l.min && l.max.max(b.max) == l.max));
+        }
+        assert!(!leaves.is_empty());
     }
 
     #[test]

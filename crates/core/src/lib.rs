@@ -36,6 +36,7 @@ pub mod section;
 pub mod segment;
 pub mod series;
 pub mod shapes;
+pub mod skin;
 pub mod tessellate;
 pub mod transition;
 pub mod visibility;

@@ -86,6 +86,14 @@ pub(crate) fn grid_layout(
     (lo, cell, dims)
 }
 
+/// The cell of `p` in a grid laid out by [`grid_layout`] (`origin`,
+/// `cell`, `dims`), clamped to the grid.
+pub(crate) fn grid_cell(p: Point3, origin: Point3, cell: Real, dims: [usize; 3]) -> [usize; 3] {
+    let d = (p - origin) / cell;
+    let c = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+    [c(d.x, dims[0]), c(d.y, dims[1]), c(d.z, dims[2])]
+}
+
 /// An axis-aligned bounding box.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
@@ -110,6 +118,23 @@ impl Aabb {
     /// Length of the box diagonal: the natural length scale of the geometry.
     pub fn diagonal(&self) -> Real {
         self.size().norm()
+    }
+    /// True when the two closed boxes share a point.
+    pub fn overlaps(&self, o: &Aabb) -> bool {
+        self.min.x <= o.max.x
+            && o.min.x <= self.max.x
+            && self.min.y <= o.max.y
+            && o.min.y <= self.max.y
+            && self.min.z <= o.max.z
+            && o.min.z <= self.max.z
+    }
+    /// The box grown by `margin` on every side.
+    pub fn grown(&self, margin: Real) -> Aabb {
+        let m = Vec3::new(margin, margin, margin);
+        Aabb {
+            min: self.min - m,
+            max: self.max + m,
+        }
     }
 }
 

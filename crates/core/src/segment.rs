@@ -2659,13 +2659,7 @@ impl BallGrid {
 
     /// Integer cell coordinates, clamped to the grid.
     fn coords(&self, p: Point3) -> [usize; 3] {
-        let d = (p - self.origin) / self.cell;
-        let cl = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
-        [
-            cl(d.x, self.dims[0]),
-            cl(d.y, self.dims[1]),
-            cl(d.z, self.dims[2]),
-        ]
+        crate::mesh::grid_cell(p, self.origin, self.cell, self.dims)
     }
 
     fn key(&self, c: [usize; 3]) -> usize {

@@ -49,7 +49,7 @@ pub struct Visibility {
 
 /// The parameter where the ray `o + t d` enters the box (0 from inside),
 /// if it does for `t < t_max` (`inv` = componentwise `1/d`).
-fn ray_box(b: &Aabb, o: Point3, inv: Vec3, t_max: Real) -> Option<Real> {
+pub(crate) fn ray_box(b: &Aabb, o: Point3, inv: Vec3, t_max: Real) -> Option<Real> {
     let (mut t0, mut t1) = (0.0, t_max);
     for (lo, hi, o, inv) in [
         (b.min.x, b.max.x, o.x, inv.x),
@@ -79,7 +79,7 @@ fn ray_box(b: &Aabb, o: Point3, inv: Vec3, t_max: Real) -> Option<Real> {
 }
 
 /// Möller-Trumbore: the ray parameter of the hit with triangle `abc`.
-fn ray_triangle(o: Point3, d: Vec3, [a, b, c]: [Point3; 3]) -> Option<Real> {
+pub(crate) fn ray_triangle(o: Point3, d: Vec3, [a, b, c]: [Point3; 3]) -> Option<Real> {
     let (e1, e2) = (b - a, c - a);
     let p = d.cross(e2);
     let det = e1.dot(p);

@@ -62,7 +62,10 @@ fn mm(d: &DistanceMm) -> Value {
 /// (symmetric) with `input_to_model_mm` and `model_to_input_mm`,
 /// `coverage` (0-1), `visible_coverage` (coverage of the input's outer
 /// surface, see [`Report::visible_coverage`]), `hidden_samples` and
-/// `visible_rms_mm` (the symmetric RMS without them), `parts` (per part: sections, orders {min, median, max},
+/// `visible_rms_mm` (the symmetric RMS without them),
+/// `interior_area_share` (the share of the pieces' tessellated area inside
+/// other pieces, left out of both distance directions: they measure the
+/// model's outer skin, see [`Report::interior_area_share`]), `parts` (per part: sections, orders {min, median, max},
 /// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
 /// worst E_a/E_M, design parameters), `parts_found` and `warnings`.
 pub fn report_json(report: &Report) -> Value {
@@ -78,6 +81,7 @@ pub fn report_json(report: &Report) -> Value {
         "visible_coverage": report.visible_coverage,
         "hidden_samples": report.hidden_samples,
         "visible_rms_mm": report.visible_rms_mm,
+        "interior_area_share": report.interior_area_share,
         "parts": report.parts.iter().map(|p| json!({
             "name": part_file_name(p.name),
             "sections": p.sections,

@@ -135,6 +135,38 @@ impl Model {
     }
 }
 
+/// Which surface an export writes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Skin {
+    /// Every piece's whole tessellation (where pieces overlap, the skin of
+    /// one runs on inside the other).
+    #[default]
+    Whole,
+    /// The outer skin ([`trigbody_core::skin`]): each piece's triangles
+    /// inside another piece left out.
+    Outer,
+}
+
+/// The pieces of [`Model::tessellate_pieces`] trimmed to `skin`: for
+/// [`Skin::Outer`], with the depth tolerance 0.0003 × the body's height
+/// (the report's, [`trigbody_core::body::ReconstructOptions::skin_depth`]),
+/// or × the pieces' bounding-box diagonal for a model without a body.
+pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Vec<(String, Mesh)> {
+    if skin == Skin::Whole {
+        return pieces;
+    }
+    let scale = model.body.as_ref().map(|b| b.height).unwrap_or_else(|| {
+        trigbody_core::Aabb::from_points(pieces.iter().flat_map(|(_, m)| &m.positions))
+            .map_or(0.0, |b| b.diagonal())
+    });
+    let depth = trigbody_core::body::ReconstructOptions::default().skin_depth * scale;
+    let (names, meshes): (Vec<String>, Vec<Mesh>) = pieces.into_iter().unzip();
+    names
+        .into_iter()
+        .zip(trigbody_core::skin::outer_pieces(&meshes, depth))
+        .collect()
+}
+
 /// The pieces of [`Model::tessellate_pieces`] in one mesh (indices
 /// shifted; normals kept when every piece has them).
 pub fn merge_pieces(pieces: &[(String, Mesh)]) -> Mesh {

@@ -167,27 +167,31 @@ fn re_posed_and_re_shaped_bodies_reconstruct() {
     let legs = [PartName::LeftLeg, PartName::RightLeg];
     let deg = std::f64::consts::PI / 180.0;
     let lim = |rms, p95, coverage| Limits { rms, p95, coverage };
-    // Measured (mesh; scan): T 3.60 / 2.77 / 96.52 %; 6.12 / 13.88 /
-    // 96.20 %. Legs 3.48 / 2.89 / 96.34 %; 3.84 / 10.08 / 97.42 %.
-    // Shorter 3.40 / 2.51 / 97.14 %; 4.22 / 9.77 / 97.46 %.
+    // Measured (mesh; scan) on the outer skin: T 3.34 / 3.28 / 96.12 %;
+    // 4.88 / 9.13 / 95.33 %. Legs 3.21 / 2.89 / 96.34 %; 3.44 / 7.60 /
+    // 97.38 %. Shorter 3.06 / 2.43 / 97.14 %; 3.99 / 8.43 / 97.46 %.
+    // The T pose's mesh p95 and coverage and its scan's coverage are worse
+    // than on the whole tessellation (2.77 / 96.52 %; 96.20 %): input
+    // samples whose nearest model point lay on skin inside another piece
+    // now measure to the outer skin.
     let variants: Vec<(&str, Mesh, Limits, Limits)> = vec![
         (
             "arms raised 45 deg (about T)",
             repose(&mesh, &arms, 45.0 * deg),
-            lim(4.2, 3.5, 0.955),
-            lim(7.0, 17.0, 0.95),
+            lim(3.8, 3.5, 0.955),
+            lim(5.5, 11.0, 0.95),
         ),
         (
             "legs spread 8 deg",
             repose(&mesh, &legs, 8.0 * deg),
-            lim(4.2, 3.5, 0.955),
-            lim(4.5, 12.0, 0.965),
+            lim(3.7, 3.5, 0.955),
+            lim(4.0, 9.0, 0.965),
         ),
         (
             "shorter x0.85, wider x1.1",
             scaled(&mesh, up, 1.1, 0.85),
-            lim(4.0, 3.2, 0.96),
-            lim(4.7, 11.5, 0.96),
+            lim(3.6, 3.0, 0.96),
+            lim(4.3, 10.0, 0.96),
         ),
     ];
     let opts = ReconstructOptions::default();

@@ -15,6 +15,7 @@ use trigbody_core::body::{reconstruct, Body, ReconstructError, ReconstructOption
 use trigbody_core::distance::{sample_surface, DistanceStats, MeshDistance};
 use trigbody_core::scanner::{virtual_scan, ScannerOptions};
 use trigbody_core::segment::{BodyGeometry, PartName, SegmentError};
+use trigbody_core::skin::{concatenate, outer_triangles};
 use trigbody_core::{shapes, Mesh, PointCloud, TessellationOptions, Vec3};
 use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 
@@ -74,16 +75,17 @@ fn real_bodies_and_scans_table() {
         let (body, r) = reconstruct(BodyGeometry::Mesh(&mesh), &opts).unwrap();
         print_row(n, &r);
         check_parts(n, &body, &r);
-        // Measured 2.3-3.1 mm, p95 2.3-2.5, coverage 97.0-97.8 % (outer
+        // Measured 2.1-2.8 mm, p95 2.0-2.3, coverage 97.0-97.8 % (outer
         // surface 98.4-99.0 %), 23.1-24.9 % of the polygon parameters.
-        assert!(r.distance_mm.rms <= 3.5, "{n}: {:?}", r.distance_mm);
-        assert!(r.distance_mm.p95 <= 4.0, "{n}: {:?}", r.distance_mm);
+        assert!(r.distance_mm.rms <= 3.2, "{n}: {:?}", r.distance_mm);
+        assert!(r.distance_mm.p95 <= 3.0, "{n}: {:?}", r.distance_mm);
         assert!(r.coverage >= 0.965, "{n}: {}", r.coverage);
         assert!(r.visible_coverage >= 0.98, "{n}: {}", r.visible_coverage);
         assert!(r.parameter_ratio() <= 0.25, "{n}: {}", r.parameter_ratio());
-        // No buried pieces: the model's own surface stays near the input.
+        // No buried pieces: the model's outer skin stays near the input
+        // (measured p95 2.0-2.2 mm).
         assert!(
-            r.model_to_input_mm.p95 <= 4.0,
+            r.model_to_input_mm.p95 <= 3.0,
             "{n}: {:?}",
             r.model_to_input_mm
         );
@@ -95,9 +97,9 @@ fn real_bodies_and_scans_table() {
         let label = format!("{n} (virtual scan)");
         print_row(&label, &r);
         check_parts(&label, &body, &r);
-        // Measured rms 2.8-3.3 mm, p95 5.4-6.2, coverage 97.8-98.7 %.
-        assert!(r.distance_mm.rms <= 4.0, "{label}: {:?}", r.distance_mm);
-        assert!(r.distance_mm.p95 <= 7.5, "{label}: {:?}", r.distance_mm);
+        // Measured rms 2.6-3.0 mm, p95 4.5-5.2, coverage 97.9-98.7 %.
+        assert!(r.distance_mm.rms <= 3.6, "{label}: {:?}", r.distance_mm);
+        assert!(r.distance_mm.p95 <= 6.5, "{label}: {:?}", r.distance_mm);
         assert!(r.coverage >= 0.97, "{label}: {}", r.coverage);
     }
     let scan =
@@ -105,10 +107,10 @@ fn real_bodies_and_scans_table() {
     let (body, r) = reconstruct(BodyGeometry::Cloud(&scan), &opts).unwrap();
     print_row("mh_male_scan.ply", &r);
     check_parts("mh_male_scan.ply", &body, &r);
-    // Measured: rms 4.15 mm (input->model 2.2, model->input 5.4), p95
-    // 8.9 mm, coverage 97.4 %.
+    // Measured: rms 3.94 mm (input->model 2.2, model->input 5.1), p95
+    // 7.2 mm, coverage 97.8 %.
     assert!(r.input_to_model_mm.rms <= 3.0, "{:?}", r.input_to_model_mm);
-    assert!(r.distance_mm.rms <= 5.0, "{:?}", r.distance_mm);
+    assert!(r.distance_mm.rms <= 4.5, "{:?}", r.distance_mm);
     assert!(r.coverage >= 0.965, "{}", r.coverage);
 }
 
@@ -188,6 +190,76 @@ fn rotated_moved_and_centimetre_bodies_give_the_same_model() {
         );
         assert!(s.rms < 1.0 && s.p95 < 1.5, "{s:?}");
     }
+}
+
+/// The report measures the model's outer skin (crate `skin`): on the
+/// built-in body, the torso's skin inside the arms (and the arms' start
+/// inside the torso) is left out, a small share of the whole, and no input
+/// sample moves farther from the model than that trimming can explain.
+#[test]
+fn the_report_measures_the_outer_skin() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
+    let mesh = read_mesh(&path, &ReadOptions::default()).unwrap();
+    let opts = ReconstructOptions::default();
+    let (body, r) = reconstruct(BodyGeometry::Mesh(&mesh), &opts).unwrap();
+    let h = body.height;
+    let tess = TessellationOptions {
+        target_edge: Some(opts.report_edge * h),
+        ..TessellationOptions::default()
+    };
+    let pieces = body.tessellate_pieces(&tess).unwrap();
+    let (surface, ranges) = concatenate(&pieces);
+    let tree = MeshDistance::new(&surface);
+    let skin = outer_triangles(&tree, &ranges, opts.skin_depth * h);
+    assert_eq!(skin.unclosed, 0);
+    // Less than the pieces' sum (measured 1.9 % less); the report's share
+    // is the same.
+    let area = surface.surface_area();
+    let share = skin.dropped_area / area;
+    assert!(share > 0.005 && share < 0.05, "{share}");
+    assert!(
+        (r.interior_area_share - share).abs() < 1e-9,
+        "{}",
+        r.interior_area_share
+    );
+    let skin_mesh = skin.mesh(&surface);
+    assert!((skin_mesh.surface_area() - (area - skin.dropped_area)).abs() < 1e-9 * area);
+    // Interior triangles are torso and arm ones (the pieces' order: torso,
+    // head, arms, legs, then the transitions).
+    let names: Vec<PartName> = body.parts.iter().map(|p| p.name).collect();
+    for (k, range) in ranges.iter().enumerate() {
+        let dropped = range.clone().filter(|&t| !skin.outer[t]).count();
+        let expected = k < names.len()
+            && matches!(
+                names[k],
+                PartName::Torso | PartName::LeftArm | PartName::RightArm
+            );
+        assert_eq!(dropped > 0, expected, "piece {k}: {dropped}");
+    }
+    // An input sample outside the model is no farther from the skin than
+    // from the whole tessellation by more than a triangle's diameter (the
+    // nearest point on a dropped triangle is within a diameter of the
+    // other piece's surface): measured at most 0.0015 H, 145 of 60 000
+    // samples moved by more than 0.0003 H.
+    let diameter = (0..surface.triangles.len())
+        .map(|t| {
+            let [a, b, c] = surface.triangle(t);
+            a.distance(b).max(b.distance(c)).max(c.distance(a))
+        })
+        .fold(0.0, f64::max);
+    let samples = sample_surface(&mesh, opts.report_samples);
+    let full = tree.distances(&samples);
+    let outer = tree.distances_where(&samples, f64::INFINITY, |_| true, |t| skin.outer[t]);
+    let mut moved = 0;
+    for (f, o) in full.iter().zip(&outer) {
+        assert!(
+            o >= f && o - f <= diameter,
+            "{f} -> {o} (diameter {diameter})"
+        );
+        moved += usize::from(o - f > 0.0003 * h);
+    }
+    assert!(moved < samples.len() / 100, "{moved}");
 }
 
 #[test]

@@ -1,7 +1,8 @@
 //! The [`Report`]: how well and how compactly a [`Body`] fits its input.
 
 use super::*;
-use crate::distance::coherent_map;
+use crate::distance::{coherent_map, sample_surface_on_triangles};
+use crate::skin::ClosedPieces;
 
 /// Per-part numbers of the [`Report`].
 #[derive(Clone, Debug, PartialEq)]
@@ -51,10 +52,15 @@ pub struct Report {
     /// `max` the larger of the two directions'.
     pub distance_mm: DistanceMm,
     /// Input → model: input surface samples (mesh) or points (cloud) to
-    /// the model's surface.
+    /// the model's outer skin ([`crate::skin`]: the boundary of the union
+    /// of its pieces, the triangles of a piece lying inside another one
+    /// deeper than [`ReconstructOptions::skin_depth`] left out).
     pub input_to_model_mm: DistanceMm,
-    /// Model → input: model surface samples to the input's surface (mesh)
-    /// or nearest input point (cloud).
+    /// Model → input: samples of the model's outer skin to the input's
+    /// surface (mesh) or nearest input point (cloud). The samples are
+    /// those [`ReconstructOptions::report_samples`] spread over all the
+    /// pieces' tessellation that lie on the outer skin (as dense, fewer by
+    /// [`Report::interior_area_share`]).
     pub model_to_input_mm: DistanceMm,
     /// Share of input samples within [`ReconstructOptions::coverage_mm`]
     /// of the model.
@@ -71,6 +77,9 @@ pub struct Report {
     /// the input → model direction: what the outer skin achieves on the
     /// input's outer surface (equal to `distance_mm.rms` for a cloud).
     pub visible_rms_mm: Real,
+    /// Share of the pieces' tessellated area lying inside other pieces
+    /// (not on the outer skin), left out of both directions.
+    pub interior_area_share: Real,
     pub parts: Vec<PartReport>,
     /// Parts the segmentation found (feet included).
     pub parts_found: Vec<PartName>,
@@ -112,42 +121,6 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
         .collect()
 }
 
-/// `f` of every item, in order, the items taken one at a time by the
-/// cores as they come free (an atomic counter): items of very different
-/// cost (a torso and a transition) balance better than in fixed runs.
-pub(super) fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
-    let threads = cores.min(items.len());
-    if threads <= 1 {
-        return items.iter().map(f).collect();
-    }
-    let next = AtomicUsize::new(0);
-    let work = || {
-        let mut done = Vec::new();
-        loop {
-            let i = next.fetch_add(1, Ordering::Relaxed);
-            if i >= items.len() {
-                return done;
-            }
-            done.push((i, f(&items[i])));
-        }
-    };
-    let mut all: Vec<(usize, R)> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
-        let mut all = work();
-        for h in handles {
-            match h.join() {
-                Ok(part) => all.extend(part),
-                Err(panic) => std::panic::resume_unwind(panic),
-            }
-        }
-        all
-    });
-    all.sort_by_key(|(i, _)| *i);
-    all.into_iter().map(|(_, r)| r).collect()
-}
-
 /// Deterministic subsample of at most `n` items (every k-th).
 fn every_kth(points: &[Point3], n: usize) -> Vec<Point3> {
     let k = points.len().div_ceil(n.max(1)).max(1);
@@ -186,36 +159,54 @@ pub(super) fn measure_with(
         target_edge: Some(opts.report_edge * model.height),
         ..TessellationOptions::default()
     };
-    let surface = model.tessellate(&tess)?;
+    // The pieces one after another: the outer skin is found on the same
+    // hierarchy that measures the input's distances to it.
+    let (surface, pieces) = crate::skin::concatenate(&model.tessellate_pieces(&tess)?);
     // Model -> input (sampling the model included) while the model's
-    // hierarchy is built (two cores). The input mesh's ray-casting
-    // hierarchy (for the hidden samples) is built on that side too.
-    let ((out_d, input_samples, input_count, vis), model_dist) = std::thread::scope(|scope| {
-        let out = scope.spawn(|| {
-            let model_samples = sample_surface(&surface, opts.report_samples);
-            let d = input.distances(&model_samples);
-            match body {
-                BodyGeometry::Mesh(m) => (
-                    d,
-                    sample_surface(m, opts.report_samples),
-                    m.positions.len(),
-                    Some(crate::visibility::Visibility::new(m)),
-                ),
-                BodyGeometry::Cloud(c) => (
-                    d,
-                    every_kth(&c.positions, opts.report_samples),
-                    c.positions.len(),
-                    None,
-                ),
+    // hierarchy is built, the pieces' open ends closed and the outer skin
+    // found (three threads on the two cores): every sample's distance is
+    // taken, those on interior triangles are left out once the outer skin
+    // is known. The input mesh's ray-casting hierarchy (for the hidden
+    // samples) is built on the first side too.
+    let ((out_all, on, area, input_samples, input_count, vis), skin, model_dist) =
+        std::thread::scope(|scope| {
+            let out = scope.spawn(|| {
+                let (model_samples, on, area) =
+                    sample_surface_on_triangles(&surface, opts.report_samples);
+                let d = input.distances(&model_samples);
+                let (samples, count, vis) = match body {
+                    BodyGeometry::Mesh(m) => (
+                        sample_surface(m, opts.report_samples),
+                        m.positions.len(),
+                        Some(crate::visibility::Visibility::new(m)),
+                    ),
+                    BodyGeometry::Cloud(c) => (
+                        every_kth(&c.positions, opts.report_samples),
+                        c.positions.len(),
+                        None,
+                    ),
+                };
+                (d, on, area, samples, count, vis)
+            });
+            let closed = scope.spawn(|| ClosedPieces::new(&surface, &pieces));
+            let model_dist = MeshDistance::new(&surface);
+            let skin = match closed.join() {
+                Ok(c) => c.outer(&model_dist, opts.skin_depth * model.height),
+                Err(panic) => std::panic::resume_unwind(panic),
+            };
+            match out.join() {
+                Ok(o) => (o, skin, model_dist),
+                Err(panic) => std::panic::resume_unwind(panic),
             }
         });
-        let model_dist = MeshDistance::new(&surface);
-        match out.join() {
-            Ok(o) => (o, model_dist),
-            Err(panic) => std::panic::resume_unwind(panic),
-        }
-    });
-    let in_d = model_dist.distances(&input_samples);
+    let out_d: Vec<Real> = out_all
+        .iter()
+        .zip(&on)
+        .filter(|(_, &t)| skin.outer[t as usize])
+        .map(|(d, _)| *d)
+        .collect();
+    let in_d =
+        model_dist.distances_where(&input_samples, Real::INFINITY, |_| true, |t| skin.outer[t]);
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
     // Only the uncovered samples are tested (over the cores).
     let mut hidden_flags = vec![false; in_d.len()];
@@ -252,6 +243,11 @@ pub(super) fn measure_with(
         visible_coverage: covered as Real / (in_d.len() - hidden).max(1) as Real,
         hidden_samples: hidden,
         visible_rms_mm: ((av.rms * av.rms + b.rms * b.rms) / 2.0).sqrt(),
+        interior_area_share: if area > 0.0 {
+            skin.dropped_area / area
+        } else {
+            0.0
+        },
         parts: part_reports(model),
         parts_found: seg.parts.iter().map(|p| p.name).collect(),
         warnings,
@@ -457,16 +453,6 @@ impl<'a> PointGrid<'a> {
 
 #[cfg(test)]
 mod tests {
-    /// Work taken as the cores come free still comes back in order.
-    #[test]
-    fn each_on_cores_keeps_the_order() {
-        let items: Vec<u64> = (0..37).map(|i| (i * 7919) % 101).collect();
-        let slow = |&x: &u64| (0..x * 1000).fold(x, |a, k| a.wrapping_mul(31).wrapping_add(k));
-        let expected: Vec<u64> = items.iter().map(slow).collect();
-        assert_eq!(each_on_cores(&items, slow), expected);
-        assert!(each_on_cores(&[] as &[u64], slow).is_empty());
-    }
-
     use super::*;
 
     #[test]

@@ -130,11 +130,16 @@ fn table(r: &Report) -> String {
     t.push_str(&d("  input->model", &r.input_to_model_mm));
     t.push_str(&d("  model->input", &r.model_to_input_mm));
     t.push_str(&format!(
-        "coverage {:.2} % of the input within 5 mm of the model ({:.2} % of its outer surface, rms {:.2} mm there: {} samples hidden inside it)\n",
+        "coverage {:.2} % of the input within 5 mm of the model\n",
         100.0 * r.coverage,
+    ));
+    t.push_str(&format!(
+        "on the surface the input shows: coverage {:.2} %, rms {:.2} mm, p95 {:.2} mm ({} input samples hidden inside it, {} model samples over a scan's holes left out)\n",
         100.0 * r.visible_coverage,
         r.visible_rms_mm,
-        r.hidden_samples
+        r.visible_p95_mm,
+        r.hidden_samples,
+        r.unobserved_samples
     ));
     t
 }

@@ -61,8 +61,10 @@ fn mm(d: &DistanceMm) -> Value {
 /// `polygon_parameters` (3 × vertices), `parameter_ratio`, `distance_mm`
 /// (symmetric) with `input_to_model_mm` and `model_to_input_mm`,
 /// `coverage` (0-1), `visible_coverage` (coverage of the input's outer
-/// surface, see [`Report::visible_coverage`]), `hidden_samples` and
-/// `visible_rms_mm` (the symmetric RMS without them),
+/// surface, see [`Report::visible_coverage`]), `hidden_samples`,
+/// `unobserved_samples` (a cloud's model samples over its holes, see
+/// [`Report::unobserved_samples`]), `visible_rms_mm` and `visible_p95_mm`
+/// (the symmetric RMS and p95 without the hidden or unobserved samples),
 /// `interior_area_share` (the share of the pieces' tessellated area inside
 /// other pieces, left out of both distance directions: they measure the
 /// model's outer skin, see [`Report::interior_area_share`]), `parts` (per part: sections, orders {min, median, max},
@@ -80,7 +82,9 @@ pub fn report_json(report: &Report) -> Value {
         "coverage": report.coverage,
         "visible_coverage": report.visible_coverage,
         "hidden_samples": report.hidden_samples,
+        "unobserved_samples": report.unobserved_samples,
         "visible_rms_mm": report.visible_rms_mm,
+        "visible_p95_mm": report.visible_p95_mm,
         "interior_area_share": report.interior_area_share,
         "parts": report.parts.iter().map(|p| json!({
             "name": part_file_name(p.name),

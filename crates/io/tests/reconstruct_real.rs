@@ -22,7 +22,7 @@ use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 fn print_row(name: &str, r: &Report) {
     let ok = |b: bool| if b { "met" } else { "NOT met" };
     println!(
-        "{name:<28} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | in->model rms {:>5.2} p95 {:>5.2} | model->in rms {:>5.2} p95 {:>5.2} | coverage {:>6.2} % (outer surface {:>6.2} %, rms {:>5.2}) | params {:>5} / 3x{} = {:>5.1} %",
+        "{name:<28} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | in->model rms {:>5.2} p95 {:>5.2} | model->in rms {:>5.2} p95 {:>5.2} | coverage {:>6.2} % (shown surface {:>6.2} %, rms {:>5.2}, p95 {:>5.2}) | params {:>5} / 3x{} = {:>5.1} %",
         r.parts.len(),
         r.parts_found.len(),
         r.distance_mm.rms,
@@ -35,14 +35,17 @@ fn print_row(name: &str, r: &Report) {
         100.0 * r.coverage,
         100.0 * r.visible_coverage,
         r.visible_rms_mm,
+        r.visible_p95_mm,
         r.design_parameters,
         r.input_vertices,
         100.0 * r.parameter_ratio()
     );
     println!(
-        "    targets: rms <= 2.5 mm {}; p95 <= 6 mm {}; coverage >= 98 % {} (outer surface {}); params <= 25 % {}",
+        "    targets: rms <= 2.5 mm {} (shown surface {}); p95 <= 6 mm {} (shown surface {}); coverage >= 98 % {} (shown surface {}); params <= 25 % {}",
         ok(r.distance_mm.rms <= 2.5),
+        ok(r.visible_rms_mm <= 2.5),
         ok(r.distance_mm.p95 <= 6.0),
+        ok(r.visible_p95_mm <= 6.0),
         ok(r.coverage >= 0.98),
         ok(r.visible_coverage >= 0.98),
         ok(r.parameter_ratio() <= 0.25)
@@ -81,6 +84,7 @@ fn real_bodies_and_scans_table() {
         assert!(r.distance_mm.p95 <= 3.0, "{n}: {:?}", r.distance_mm);
         assert!(r.coverage >= 0.965, "{n}: {}", r.coverage);
         assert!(r.visible_coverage >= 0.98, "{n}: {}", r.visible_coverage);
+        assert_eq!(r.unobserved_samples, 0, "{n}");
         assert!(r.parameter_ratio() <= 0.25, "{n}: {}", r.parameter_ratio());
         // No buried pieces: the model's outer skin stays near the input
         // (measured p95 2.0-2.2 mm).
@@ -101,6 +105,17 @@ fn real_bodies_and_scans_table() {
         assert!(r.distance_mm.rms <= 3.6, "{label}: {:?}", r.distance_mm);
         assert!(r.distance_mm.p95 <= 6.5, "{label}: {:?}", r.distance_mm);
         assert!(r.coverage >= 0.97, "{label}: {}", r.coverage);
+        // A scan's holes (soles, crown, crotch) are left out of the shown
+        // surface's numbers (measured 2.2-2.4 mm, p95 3.7-3.8 mm); a mesh
+        // has none.
+        assert!(r.unobserved_samples > 0, "{label}");
+        assert!(
+            r.visible_rms_mm <= 2.6 && r.visible_p95_mm <= 4.5,
+            "{label}: {} {}",
+            r.visible_rms_mm,
+            r.visible_p95_mm
+        );
+        assert!(r.visible_rms_mm < r.distance_mm.rms, "{label}");
     }
     let scan =
         read_point_cloud(data.join("scans/mh_male_scan.ply"), &ReadOptions::default()).unwrap();
@@ -112,6 +127,10 @@ fn real_bodies_and_scans_table() {
     assert!(r.input_to_model_mm.rms <= 3.0, "{:?}", r.input_to_model_mm);
     assert!(r.distance_mm.rms <= 4.5, "{:?}", r.distance_mm);
     assert!(r.coverage >= 0.965, "{}", r.coverage);
+    // Shown surface: rms 3.27, p95 4.54 mm (1 607 model samples over its
+    // holes).
+    assert!(r.visible_p95_mm <= 5.5, "{}", r.visible_p95_mm);
+    assert!(r.visible_rms_mm <= 3.8, "{}", r.visible_rms_mm);
 }
 
 /// `p ↦ s R p + t` with `R` a rotation about a skew axis.

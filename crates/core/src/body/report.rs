@@ -73,10 +73,21 @@ pub struct Report {
     pub visible_coverage: Real,
     /// Input samples farther than the coverage distance and hidden.
     pub hidden_samples: usize,
-    /// The symmetric RMS (mm) with the hidden input samples left out of
-    /// the input → model direction: what the outer skin achieves on the
-    /// input's outer surface (equal to `distance_mm.rms` for a cloud).
+    /// The symmetric RMS (mm) on the surface the input shows: for a mesh
+    /// the hidden input samples left out of input → model (what the outer
+    /// skin achieves on the input's outer surface); for a cloud the model
+    /// samples over the scan's holes left out of model → input
+    /// ([`Report::unobserved_samples`]).
     pub visible_rms_mm: Real,
+    /// The symmetric 95th percentile (mm) with the same samples left out
+    /// as [`Report::visible_rms_mm`].
+    pub visible_p95_mm: Real,
+    /// For a cloud, the model samples over the scan's holes: farther than
+    /// the coverage distance from every scan point, with the nearest scan
+    /// point on a hole's rim ([`crate::holes`]: the soles the body stood
+    /// on, the crown, the crotch). Their distance measures the hole, not
+    /// the model. 0 for a mesh.
+    pub unobserved_samples: usize,
     /// Share of the pieces' tessellated area lying inside other pieces
     /// (not on the outer skin), left out of both directions.
     pub interior_area_share: Real,
@@ -168,7 +179,7 @@ pub(super) fn measure_with(
     // taken, those on interior triangles are left out once the outer skin
     // is known. The input mesh's ray-casting hierarchy (for the hidden
     // samples) is built on the first side too.
-    let ((out_all, on, area, input_samples, input_count, vis), skin, model_dist) =
+    let ((model_samples, out_all, on, area, input_samples, input_count, vis), skin, model_dist) =
         std::thread::scope(|scope| {
             let out = scope.spawn(|| {
                 let (model_samples, on, area) =
@@ -186,7 +197,7 @@ pub(super) fn measure_with(
                         None,
                     ),
                 };
-                (d, on, area, samples, count, vis)
+                (model_samples, d, on, area, samples, count, vis)
             });
             let closed = scope.spawn(|| ClosedPieces::new(&surface, &pieces));
             let model_dist = MeshDistance::new(&surface);
@@ -199,10 +210,33 @@ pub(super) fn measure_with(
                 Err(panic) => std::panic::resume_unwind(panic),
             }
         });
-    let out_d: Vec<Real> = out_all
+    let (out_d, out_samples): (Vec<Real>, Vec<Point3>) = out_all
         .iter()
         .zip(&on)
-        .filter(|(_, &t)| skin.outer[t as usize])
+        .zip(&model_samples)
+        .filter(|((_, &t), _)| skin.outer[t as usize])
+        .map(|((d, _), p)| (*d, *p))
+        .unzip();
+    // A cloud's holes: the rim test's radius is 4 point spacings, the
+    // spacing `√(A / N)` from the outer skin's area `A` and the `N` points.
+    let over_hole = match (body, input) {
+        (BodyGeometry::Cloud(c), InputDistance::Cloud(grid)) if !c.positions.is_empty() => {
+            let spacing = ((area - skin.dropped_area).max(0.0) / c.positions.len() as Real).sqrt();
+            crate::holes::over_holes(
+                grid,
+                &out_samples,
+                &out_d,
+                opts.coverage_mm / mm,
+                crate::holes::RIM_RADIUS_SPACINGS * spacing,
+            )
+        }
+        _ => vec![false; out_d.len()],
+    };
+    let unobserved = over_hole.iter().filter(|&&o| o).count();
+    let observed_out: Vec<Real> = out_d
+        .iter()
+        .zip(&over_hole)
+        .filter(|(_, o)| !**o)
         .map(|(d, _)| *d)
         .collect();
     let in_d =
@@ -229,6 +263,7 @@ pub(super) fn measure_with(
     let av = DistanceMm::of(&DistanceStats::of(&visible_in), mm);
     let a = DistanceMm::of(&DistanceStats::of(&in_d), mm);
     let b = DistanceMm::of(&DistanceStats::of(&out_d), mm);
+    let bv = DistanceMm::of(&DistanceStats::of(&observed_out), mm);
     Ok(Report {
         design_parameters: model.design_parameters(),
         input_vertices: input_count,
@@ -242,7 +277,9 @@ pub(super) fn measure_with(
         coverage: covered as Real / in_d.len().max(1) as Real,
         visible_coverage: covered as Real / (in_d.len() - hidden).max(1) as Real,
         hidden_samples: hidden,
-        visible_rms_mm: ((av.rms * av.rms + b.rms * b.rms) / 2.0).sqrt(),
+        visible_rms_mm: ((av.rms * av.rms + bv.rms * bv.rms) / 2.0).sqrt(),
+        visible_p95_mm: av.p95.max(bv.p95),
+        unobserved_samples: unobserved,
         interior_area_share: if area > 0.0 {
             skin.dropped_area / area
         } else {

@@ -2385,12 +2385,15 @@ impl<'a> Cutter<'a> {
 
     /// All loops in `plane` of the geometry near `centre` (see the type's
     /// doc), with cloud indices.
-    /// For a torso cut of a cloud a little below the armpits, the arms'
-    /// axes: a scan's slab there has the arms touching the torso, and the
-    /// closing joins their rings into one (the male virtual scan's torso
-    /// at 0.75 H came out as two arm-sized loops); their points are left
+    /// For a torso cut of a cloud near the armpits (from [`ARMPIT_BAND`]
+    /// below to [`ARMPIT_ABOVE`] above the lower armpit landmark), each
+    /// arm's axis points that can be nearest to a point of the plane's slab
+    /// within the arm's radius ([`near_axis`]): a scan's slab there has the
+    /// arms touching the torso, and the closing joins their rings into one
+    /// (the male virtual scan's torso at 0.75 H came out as two arm-sized
+    /// loops and none around the torso); points in an arm's tube are left
     /// out of the slab ([`in_arm`]). Empty otherwise.
-    fn torso_arms(&self, part: PartName, plane: &Plane) -> Vec<&'a PartAxis> {
+    fn torso_arms(&self, part: PartName, plane: &Plane) -> Vec<Vec<AxisBall>> {
         let seg = self.seg;
         if part != PartName::Torso || !matches!(self.body, BodyGeometry::Cloud(_)) {
             return Vec::new();
@@ -2407,9 +2410,12 @@ impl<'a> Cutter<'a> {
         {
             return Vec::new();
         }
+        // A slab is a few point spacings thick: 0.01 H is ample.
+        let reach = 0.01 * seg.height;
         [PartName::LeftArm, PartName::RightArm]
             .iter()
             .filter_map(|&a| seg.part(a))
+            .map(|a| near_axis(a, plane, reach))
             .collect()
     }
 
@@ -2419,7 +2425,7 @@ impl<'a> Cutter<'a> {
         centre: Point3,
         radius: Real,
         opts: &SegmentOptions,
-        arms: &[&PartAxis],
+        arms: &[Vec<AxisBall>],
     ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
         match self.body {
             BodyGeometry::Mesh(m) => {
@@ -2555,7 +2561,7 @@ impl<'a> Cutter<'a> {
         centre: Point3,
         radius: Real,
         opts: &SegmentOptions,
-        arms: &[&PartAxis],
+        arms: &[Vec<AxisBall>],
     ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
         let Some(axis) = plane.normal.normalized() else {
             return Vec::new();
@@ -2660,18 +2666,37 @@ const ARMPIT_BAND: Real = 0.05;
 /// last armless section meets its shoulder section). Kept: 0.01.
 const ARMPIT_ABOVE: Real = 0.01;
 
-/// True when `p` lies within the arm's tube: nearer its axis than the
-/// radius there, past the axis's first point (the shoulder end).
-fn in_arm(arm: &PartAxis, p: Point3) -> bool {
-    let mut best = (Real::INFINITY, 0usize);
-    for (k, q) in arm.points.iter().enumerate() {
-        let d = (*q - p).norm_squared();
-        if d < best.0 {
-            best = (d, k);
+/// An arm's axis point: its index along the axis, position and radius.
+type AxisBall = (usize, Point3, Real);
+
+/// The axis points of `arm` within `R + reach` of `plane` (`R` the arm's
+/// largest radius): for a point within `reach` of the plane, the nearest
+/// axis point lies among them whenever it is nearer than `R` (any other
+/// is farther than `R`), so [`in_arm`] over them answers as over the whole
+/// axis.
+fn near_axis(arm: &PartAxis, plane: &Plane, reach: Real) -> Vec<AxisBall> {
+    let big = arm.radii.iter().copied().fold(0.0, Real::max);
+    arm.points
+        .iter()
+        .zip(&arm.radii)
+        .enumerate()
+        .filter(|(_, (q, _))| ((**q - plane.origin).dot(plane.normal)).abs() <= big + reach)
+        .map(|(k, (q, r))| (k, *q, *r))
+        .collect()
+}
+
+/// True when `p` lies within the arm's tube: nearer its nearest axis point
+/// (of `axis`, [`near_axis`]) than the radius there, that point not the
+/// axis's first (the shoulder end, inside the torso).
+fn in_arm(axis: &[AxisBall], p: Point3) -> bool {
+    let mut best: Option<(Real, usize, Real)> = None;
+    for &(k, q, r) in axis {
+        let d = (q - p).norm_squared();
+        if best.is_none_or(|b| d < b.0) {
+            best = Some((d, k, r));
         }
     }
-    let (d2, k) = best;
-    k > 0 && arm.radii.get(k).is_some_and(|r| d2 <= r * r)
+    best.is_some_and(|(d, k, r)| k > 0 && d <= r * r)
 }
 
 /// A uniform grid of a cloud's points for ball queries: cells of side
@@ -3134,9 +3159,10 @@ fn find_wrist(
 mod tests {
     use super::*;
 
-    /// A point is in an arm's tube when nearer the axis than the radius
-    /// there, and never at the axis's first point (the shoulder end, where
-    /// the torso is).
+    /// A point is in an arm's tube when nearer its nearest axis point than
+    /// the radius there, never at the axis's first point (the shoulder
+    /// end, where the torso is); the axis points near a plane answer as
+    /// the whole axis for points near it.
     #[test]
     fn in_arm_is_the_tube_past_the_shoulder() {
         let arm = PartAxis {
@@ -3148,12 +3174,33 @@ mod tests {
             start: LandmarkKind::LeftArmpit,
             end: LandmarkKind::LeftWrist,
         };
-        assert!(in_arm(&arm, Vec3::new(0.34, 1.2, 0.0)));
-        assert!(in_arm(&arm, Vec3::new(0.3, 1.0, 0.049)));
-        assert!(!in_arm(&arm, Vec3::new(0.36, 1.2, 0.0)));
-        assert!(!in_arm(&arm, Vec3::new(0.2, 1.2, 0.0)));
+        let all: Vec<AxisBall> = arm
+            .points
+            .iter()
+            .zip(&arm.radii)
+            .enumerate()
+            .map(|(k, (q, r))| (k, *q, *r))
+            .collect();
+        assert!(in_arm(&all, Vec3::new(0.34, 1.2, 0.0)));
+        assert!(in_arm(&all, Vec3::new(0.3, 1.0, 0.049)));
+        assert!(!in_arm(&all, Vec3::new(0.36, 1.2, 0.0)));
+        assert!(!in_arm(&all, Vec3::new(0.2, 1.2, 0.0)));
         // nearest the first axis point: the shoulder end, not the arm
-        assert!(!in_arm(&arm, Vec3::new(0.3, 1.41, 0.0)));
+        assert!(!in_arm(&all, Vec3::new(0.3, 1.41, 0.0)));
+        // Near a plane, its nearby axis points answer as the whole axis.
+        let mut rng = crate::scanner::Rng::new(4);
+        for h in [1.42, 1.3, 1.12, 0.9] {
+            let plane = Plane::new(Vec3::new(0.0, h, 0.0), Vec3::Y).unwrap();
+            let near = near_axis(&arm, &plane, 0.01);
+            for _ in 0..500 {
+                let p = Vec3::new(
+                    0.2 + 0.2 * rng.uniform(),
+                    h + 0.02 * (rng.uniform() - 0.5),
+                    0.1 * (rng.uniform() - 0.5),
+                );
+                assert_eq!(in_arm(&near, p), in_arm(&all, p), "{p:?}");
+            }
+        }
     }
     use crate::shapes;
 

@@ -441,6 +441,16 @@ impl Segmentation {
     pub fn part(&self, name: PartName) -> Option<&PartAxis> {
         self.parts.iter().find(|p| p.name == name)
     }
+
+    /// The height along `up` of the lower armpit landmark (infinite when
+    /// neither armpit was found).
+    pub fn armpit_level(&self) -> Real {
+        [LandmarkKind::LeftArmpit, LandmarkKind::RightArmpit]
+            .iter()
+            .filter_map(|&k| self.landmark(k))
+            .map(|l| l.position.dot(self.frame.up))
+            .fold(Real::INFINITY, Real::min)
+    }
 }
 
 /// One plane section cut by [`cut_part`].
@@ -2383,8 +2393,6 @@ impl<'a> Cutter<'a> {
         }
     }
 
-    /// All loops in `plane` of the geometry near `centre` (see the type's
-    /// doc), with cloud indices.
     /// For a torso cut of a cloud near the armpits (from [`ARMPIT_BAND`]
     /// below to [`ARMPIT_ABOVE`] above the lower armpit landmark), each
     /// arm's axis points that can be nearest to a point of the plane's slab
@@ -2398,13 +2406,8 @@ impl<'a> Cutter<'a> {
         if part != PartName::Torso || !matches!(self.body, BodyGeometry::Cloud(_)) {
             return Vec::new();
         }
-        let up = seg.frame.up;
-        let armpit = [LandmarkKind::LeftArmpit, LandmarkKind::RightArmpit]
-            .iter()
-            .filter_map(|&k| seg.landmark(k))
-            .map(|l| l.position.dot(up))
-            .fold(Real::INFINITY, Real::min);
-        let level = plane.origin.dot(up);
+        let armpit = seg.armpit_level();
+        let level = plane.origin.dot(seg.frame.up);
         if !(level <= armpit + ARMPIT_ABOVE * seg.height
             && level >= armpit - ARMPIT_BAND * seg.height)
         {
@@ -2419,6 +2422,9 @@ impl<'a> Cutter<'a> {
             .collect()
     }
 
+    /// All loops in `plane` of the geometry near `centre` (see the type's
+    /// doc), with cloud indices; a cloud's points in the `arms` tubes
+    /// ([`Cutter::torso_arms`]) left out.
     fn loops(
         &self,
         plane: &Plane,

@@ -332,11 +332,7 @@ impl Body {
     /// Tessellates every part, then every transition, into one mesh (in
     /// that order), the pieces taken by the cores as they come free.
     pub fn tessellate(&self, options: &TessellationOptions) -> Result<Mesh, ReconstructError> {
-        let mut out = Mesh::default();
-        for m in self.tessellate_pieces(options)? {
-            append_mesh(&mut out, &m);
-        }
-        Ok(out)
+        Ok(crate::skin::concatenate(&self.tessellate_pieces(options)?).0)
     }
 
     /// Every part's tessellation, then every transition's (the pieces of

@@ -48,14 +48,9 @@ pub(super) fn cut_and_fit(
     };
     let mut fit = fit_untangled(&cut.outline.points, &fo)?;
     // Tape girths are taken below the armpits (chest, waist, hip).
-    let armpit = [LandmarkKind::LeftArmpit, LandmarkKind::RightArmpit]
-        .into_iter()
-        .filter_map(|k| landmark(seg, k))
-        .map(|p| p.dot(seg.frame.up))
-        .fold(Real::INFINITY, Real::min);
     if name == PartName::Torso
         && matches!(body, BodyGeometry::Mesh(_))
-        && cut.plane.origin.dot(seg.frame.up) < armpit
+        && cut.plane.origin.dot(seg.frame.up) < seg.armpit_level()
     {
         fit = with_tape_girth(fit, &cut.outline, &fo, TORSO_TAPE_TOLERANCE);
     }

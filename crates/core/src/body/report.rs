@@ -132,6 +132,16 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
         .collect()
 }
 
+/// The distances whose flag is not set (the samples a shown-surface
+/// number keeps).
+fn unflagged(d: &[Real], flags: &[bool]) -> Vec<Real> {
+    d.iter()
+        .zip(flags)
+        .filter(|(_, f)| !**f)
+        .map(|(d, _)| *d)
+        .collect()
+}
+
 /// Deterministic subsample of at most `n` items (every k-th).
 fn every_kth(points: &[Point3], n: usize) -> Vec<Point3> {
     let k = points.len().div_ceil(n.max(1)).max(1);
@@ -233,12 +243,7 @@ pub(super) fn measure_with(
         _ => vec![false; out_d.len()],
     };
     let unobserved = over_hole.iter().filter(|&&o| o).count();
-    let observed_out: Vec<Real> = out_d
-        .iter()
-        .zip(&over_hole)
-        .filter(|(_, o)| !**o)
-        .map(|(d, _)| *d)
-        .collect();
+    let observed_out = unflagged(&out_d, &over_hole);
     let in_d =
         model_dist.distances_where(&input_samples, Real::INFINITY, |_| true, |t| skin.outer[t]);
     let covered = in_d.iter().filter(|&&d| d * mm <= opts.coverage_mm).count();
@@ -254,12 +259,7 @@ pub(super) fn measure_with(
         }
     }
     let hidden = hidden_flags.iter().filter(|&&h| h).count();
-    let visible_in: Vec<Real> = in_d
-        .iter()
-        .zip(&hidden_flags)
-        .filter(|(_, h)| !**h)
-        .map(|(d, _)| *d)
-        .collect();
+    let visible_in = unflagged(&in_d, &hidden_flags);
     let av = DistanceMm::of(&DistanceStats::of(&visible_in), mm);
     let a = DistanceMm::of(&DistanceStats::of(&in_d), mm);
     let b = DistanceMm::of(&DistanceStats::of(&out_d), mm);

@@ -282,6 +282,23 @@ impl SectionLoop {
     }
 }
 
+impl SectionLoop {
+    /// The loop's points with each edge's midpoint after its first point
+    /// (the closing edge's last): `2n` points in the loop's order, for a
+    /// fit to the polygon's edges as well as its corners.
+    pub fn with_edge_midpoints(&self) -> Vec<Point3> {
+        let n = self.points.len();
+        let mut out = Vec::with_capacity(2 * n);
+        for (i, &a) in self.points.iter().enumerate() {
+            out.push(a);
+            if n > 1 {
+                out.push((a + self.points[(i + 1) % n]) * 0.5);
+            }
+        }
+        out
+    }
+}
+
 /// Points strictly between `a` and `b`, about `step` apart.
 fn push_between(out: &mut Vec<Point3>, a: Point3, b: Point3, step: Real) {
     let k = (a.distance(b) / step).floor() as usize;
@@ -817,6 +834,31 @@ mod tests {
             }
         }
         SectionLoop::from_points(pts, Vec3::X, Vec3::Y).unwrap()
+    }
+
+    #[test]
+    fn edge_midpoints_follow_each_corner() {
+        let sq = SectionLoop::from_points(
+            vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(2.0, 0.0, 0.0),
+                Vec3::new(2.0, 2.0, 0.0),
+                Vec3::new(0.0, 2.0, 0.0),
+            ],
+            Vec3::X,
+            Vec3::Y,
+        )
+        .unwrap();
+        let m = sq.with_edge_midpoints();
+        assert_eq!(m.len(), 8);
+        for (k, &p) in sq.points.iter().enumerate() {
+            assert_eq!(m[2 * k], p);
+            let next = sq.points[(k + 1) % 4];
+            assert_eq!(m[2 * k + 1], (p + next) * 0.5);
+        }
+        // The polygon is unchanged: same area through the doubled points.
+        let again = SectionLoop::from_points(m, Vec3::X, Vec3::Y).unwrap();
+        assert!((again.area - sq.area).abs() < 1e-12);
     }
 
     #[test]

@@ -9,6 +9,11 @@
 //!   half a file under the user's name. Without `--force` the name is first
 //!   claimed with `create_new`, so two runs cannot both "create" it.
 //! * Missing parent directories are created.
+//! * A target that is neither a regular file nor a directory (a device such
+//!   as `/dev/null` or `/dev/stdout`, a FIFO) is written in place, with or
+//!   without `--force`: writing to it replaces nothing, and a rename would
+//!   put a regular file where the device was (it did: `-o /dev/null
+//!   --force` turned the machine's `/dev/null` into a file).
 
 use crate::exit::bad;
 use anyhow::Result;
@@ -20,6 +25,13 @@ use std::path::{Path, PathBuf};
 pub fn write_file(path: &Path, bytes: &[u8], inputs: &[&Path], force: bool) -> Result<()> {
     let shown = path.display();
     refuse_input(path, inputs)?;
+    if is_special(path) {
+        return std::fs::OpenOptions::new()
+            .write(true)
+            .open(path)
+            .and_then(|mut f| f.write_all(bytes).and_then(|()| f.flush()))
+            .map_err(|e| bad(format!("{shown}: {e}")));
+    }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| bad(format!("{}: {e}", dir.display())))?;
     }
@@ -59,6 +71,12 @@ pub fn write_file(path: &Path, bytes: &[u8], inputs: &[&Path], force: bool) -> R
     Ok(())
 }
 
+/// True when `path` exists and is neither a regular file nor a directory
+/// (a device, a FIFO, a socket).
+pub fn is_special(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// Exit 2 when `path` names one of `inputs` (for the writers of
 /// `trigbody-io`, which keep the rest of the policy themselves).
 pub fn refuse_input(path: &Path, inputs: &[&Path]) -> Result<()> {
@@ -88,6 +106,21 @@ fn temporary_beside(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn a_device_is_written_in_place_and_stays_a_device() {
+        use std::os::unix::fs::FileTypeExt;
+        let null = Path::new("/dev/null");
+        assert!(is_special(null));
+        for force in [false, true] {
+            write_file(null, b"model", &[], force).unwrap();
+            let kind = std::fs::metadata(null).unwrap().file_type();
+            assert!(kind.is_char_device(), "/dev/null was replaced");
+        }
+        assert!(!is_special(Path::new("Cargo.toml")));
+        assert!(!is_special(Path::new(".")));
+    }
 
     fn dir(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("trigbody-output-{name}-{}", std::process::id()));

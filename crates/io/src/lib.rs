@@ -232,12 +232,17 @@ fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) ->
             .write(std::io::sink(), format, csv, options)
             .map_err(|e| e.with_path(path));
     }
+    // A device or FIFO (`/dev/null`, `/dev/stdout`) is written in place:
+    // nothing is replaced, it cannot be synced, and it is never removed.
+    let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir());
     let mut open = OpenOptions::new();
     open.write(true);
-    if options.overwrite {
-        open.create(true).truncate(true);
-    } else {
-        open.create_new(true);
+    if !special {
+        if options.overwrite {
+            open.create(true).truncate(true);
+        } else {
+            open.create_new(true);
+        }
     }
     let file = open.open(path).map_err(|e| {
         if e.kind() == std::io::ErrorKind::AlreadyExists {
@@ -251,12 +256,16 @@ fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) ->
     let mut w = BufWriter::new(file);
     let result = geometry.write(&mut w, format, csv, options).and_then(|()| {
         w.flush()?;
-        w.get_ref().sync_all()?;
+        if !special {
+            w.get_ref().sync_all()?;
+        }
         Ok(())
     });
     if let Err(e) = result {
         drop(w);
-        let _ = std::fs::remove_file(path);
+        if !special {
+            let _ = std::fs::remove_file(path);
+        }
         return Err(e.with_path(path));
     }
     Ok(())

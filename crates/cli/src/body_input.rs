@@ -1,7 +1,7 @@
 //! The one place where a command's body argument becomes what is measured
 //! and drawn:
 //!
-//! * a **model file** (`.json`, version 2 with a `body` object, as written
+//! * a **model file** (`.json`, version 2 or 3 with a `body` object, as written
 //!   by `trigbody reconstruct`) is read back into a [`Body`] and measured
 //!   from its own curves ([`measure_body`]);
 //! * an **input** (a mesh or a scanned point cloud) is reconstructed first

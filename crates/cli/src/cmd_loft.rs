@@ -175,6 +175,7 @@ pub fn run(args: LoftArgs) -> Result<()> {
         CapFlag::Flat => CapKind::Flat,
         CapFlag::Dome => CapKind::Dome {
             relative_height: args.dome_height,
+            fullness: 1.0,
         },
     };
     let options = PartOptions {

@@ -150,13 +150,10 @@ fn bad_input_exits_2_naming_the_problem() {
         .assert()
         .success();
     let v9 = d.join("v9.json");
-    std::fs::write(
-        &v9,
-        std::fs::read_to_string(&out)
-            .unwrap()
-            .replace("\"version\": 2", "\"version\": 9"),
-    )
-    .unwrap();
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    doc["version"] = 9.into();
+    std::fs::write(&v9, doc.to_string()).unwrap();
     let glb = d.join("v9.glb");
     let (code, err) = stderr_of(&["mesh", v9.to_str().unwrap(), "-o", glb.to_str().unwrap()]);
     assert_eq!(code, 2);

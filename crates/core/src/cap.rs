@@ -8,7 +8,7 @@
 //!   `C` swept to its area centroid `g` (a sole, a cut).
 //! * **Dome**: the cubic Hermite patch (in `u`, coefficient-wise) from `C`
 //!   with `∂t/∂u = λ T(v)` to the apex `A = g + h a` with
-//!   `∂t/∂u = -(π/2) D(v)`, where `T = ∂t/∂s` is the part's tangent at its
+//!   `∂t/∂u = -(π/2) φ D(v)`, where `T = ∂t/∂s` is the part's tangent at its
 //!   end (so the cap meets the part with tangent continuity), `a` the unit
 //!   mean of `T` (the part's axis there), `h` the dome height,
 //!   `λ = (π/2) h`, and `D(v) = p cos v + q sin v` the first harmonic of
@@ -17,6 +17,16 @@
 //!   `p` and `q`, so the dome has one tangent plane (normal `a`) at the apex
 //!   instead of a cone point. The factors π/2 make a cylinder's dome close to
 //!   a quarter circle in profile (a hemisphere when `h` is the radius).
+//!   The **fullness** `φ` (1 by default) keeps the dome's sections wider
+//!   towards the apex along the major axis of the first harmonic's
+//!   ellipse (the apex tangent is `-(π/2) D_φ(v)`, `D_φ` being `D` with
+//!   that semi-axis scaled by `φ`, the other kept): on a cylinder of radius
+//!   `r` the profile along that axis is `ρ(u) = r (h₀₀(u) − φ (π/2) h₁₁(u))`
+//!   (`h₀₀ = 2u³ − 3u² + 1`, `h₁₁ = u³ − u²`) at the same heights, so at
+//!   `u = 0.7` (0.88 `h` up) `ρ = 0.45 r` for `φ = 1` and `0.68 r` for
+//!   `φ = 2`; `ρ` stays within 0.04 % of `r` before it falls for `φ ≤ 2`.
+//!   A mitten over fingers spread in a fan needs the wider end, and a flat
+//!   hand's thickness does not.
 
 use crate::curve::{SpaceCurve, TrigCurve};
 use crate::math::{Point3, Real, Vec3};
@@ -37,8 +47,21 @@ pub enum CapKind {
     Flat,
     /// A smooth dome; its height is `relative_height` times the end curve's
     /// mean radius `sqrt(|area| / π)` ([`DEFAULT_DOME_HEIGHT`] = 1: about a
-    /// hemisphere).
-    Dome { relative_height: Real },
+    /// hemisphere); `fullness` `φ` (1, the default, is left out of files)
+    /// widens its sections towards the apex (module doc).
+    Dome {
+        relative_height: Real,
+        #[serde(default = "unit", skip_serializing_if = "is_unit")]
+        fullness: Real,
+    },
+}
+
+fn unit() -> Real {
+    1.0
+}
+
+fn is_unit(x: &Real) -> bool {
+    *x == 1.0
 }
 
 /// The default relative dome height: 1 (a hemisphere-like tip).
@@ -49,6 +72,7 @@ impl CapKind {
     pub fn dome() -> CapKind {
         CapKind::Dome {
             relative_height: DEFAULT_DOME_HEIGHT,
+            fullness: 1.0,
         }
     }
 }
@@ -58,6 +82,8 @@ impl CapKind {
 pub enum CapError {
     #[error("the dome height must be finite and positive, got {0}")]
     BadHeight(Real),
+    #[error("the dome fullness must be finite and positive, got {0}")]
+    BadFullness(Real),
     #[error("the end curve encloses no area and has no extent: nothing to cap")]
     DegenerateCurve,
     #[error("the part's end tangent has no direction to put a dome on")]
@@ -134,15 +160,39 @@ pub fn flat_cap(curve: &TrigCurve) -> Result<Cap, CapError> {
     })
 }
 
+/// The first harmonic `D(v) = p cos v + q sin v` (an ellipse) with its
+/// major semi-axis `M = D(v*)`, `tan 2v* = 2 p·q / (|p|² − |q|²)`, scaled
+/// by `fullness` and its minor one kept: `p + (φ − 1)(p·M̂) M̂`, and the
+/// same for `q`. A flat hand's dome widens across the fingers' fan and
+/// keeps its thickness.
+fn widened(p: Vec3, q: Vec3, fullness: Real) -> (Vec3, Vec3) {
+    if fullness == 1.0 {
+        return (p, q);
+    }
+    let v = 0.5 * (2.0 * p.dot(q)).atan2(p.dot(p) - q.dot(q));
+    let Some(major) = (p * v.cos() + q * v.sin()).normalized() else {
+        return (p, q);
+    };
+    let k = fullness - 1.0;
+    (
+        p + major * (k * p.dot(major)),
+        q + major * (k * q.dot(major)),
+    )
+}
+
 /// The dome cap of `curve` (see the module doc). `tangent` is the part's
 /// `∂t/∂s` at this end, pointing out of the part (negate it at the start).
 pub fn dome_cap(
     curve: &TrigCurve,
     tangent: &SpaceCurve,
     relative_height: Real,
+    fullness: Real,
 ) -> Result<Cap, CapError> {
     if !(relative_height.is_finite() && relative_height > 0.0) {
         return Err(CapError::BadHeight(relative_height));
+    }
+    if !(fullness.is_finite() && fullness > 0.0) {
+        return Err(CapError::BadFullness(fullness));
     }
     let c = curve.world_series();
     let g = centre(curve);
@@ -176,7 +226,7 @@ pub fn dome_cap(
         );
         v - axis * v.dot(axis)
     };
-    let (p, q) = (first(1), first(2));
+    let (p, q) = widened(first(1), first(2), fullness);
     let mut d = SpaceCurve {
         x: Series::zeros(order),
         y: Series::zeros(order),
@@ -204,7 +254,10 @@ pub fn dome_cap(
     };
     let patch = Patch::hermite(&c, &t0, &constant_curve(apex, order), &d)?;
     Ok(Cap {
-        kind: CapKind::Dome { relative_height },
+        kind: CapKind::Dome {
+            relative_height,
+            fullness,
+        },
         patch,
         apex,
     })
@@ -238,7 +291,7 @@ mod tests {
     fn dome_on_a_cylinder_is_nearly_a_hemisphere_and_smooth() {
         let r = 0.2;
         let c = TrigCurve::circle(Frame::XY, r, 2);
-        let cap = dome_cap(&c, &unit_axis_tangent(2), 1.0).unwrap();
+        let cap = dome_cap(&c, &unit_axis_tangent(2), 1.0, 1.0).unwrap();
         assert!((cap.apex - Vec3::new(0.0, 0.0, r)).norm() < 1e-14);
         for i in 0..24 {
             let v = i as Real * 0.26;
@@ -255,8 +308,50 @@ mod tests {
             assert!((n - Vec3::Z).norm() < 1e-4);
         }
         assert_eq!(
-            dome_cap(&c, &unit_axis_tangent(2), -1.0),
+            dome_cap(&c, &unit_axis_tangent(2), -1.0, 1.0),
             Err(CapError::BadHeight(-1.0))
+        );
+    }
+
+    #[test]
+    fn a_fuller_dome_widens_along_its_major_axis_to_the_same_apex() {
+        // An elliptic end, semi-axes 0.2 (x) and 0.1 (y), like a flat hand.
+        let c = TrigCurve::new(Frame::XY, vec![0.0, 0.2, 0.0], vec![0.0, 0.1, 0.0]).unwrap();
+        let t = unit_axis_tangent(2);
+        let plain = dome_cap(&c, &t, 2.0, 1.0).unwrap();
+        let full = dome_cap(&c, &t, 2.0, 2.0).unwrap();
+        assert!((plain.apex - full.apex).norm() < 1e-15);
+        for k in 0..=20 {
+            let u = k as Real / 20.0;
+            // The same heights (the axial part does not depend on φ).
+            for v in [0.0, 0.3, FRAC_PI_2] {
+                crate::assert_near!(plain.patch.point(u, v).z, full.patch.point(u, v).z, 1e-14);
+            }
+            // The profile of the module doc along the major axis,
+            // ρ = a (h00 − φ (π/2) h11); the minor axis as without φ.
+            let (h00, h11) = (2.0 * u.powi(3) - 3.0 * u * u + 1.0, u.powi(3) - u * u);
+            for (cap, phi) in [(&plain, 1.0), (&full, 2.0)] {
+                let p = cap.patch.point(u, 0.0);
+                crate::assert_near!(p.x, 0.2 * (h00 - phi * FRAC_PI_2 * h11), 1e-14);
+                crate::assert_near!(p.y, 0.0, 1e-14);
+                let q = cap.patch.point(u, FRAC_PI_2);
+                crate::assert_near!(q.y, 0.1 * (h00 - FRAC_PI_2 * h11), 1e-14);
+                crate::assert_near!(q.x, 0.0, 1e-14);
+            }
+            // Never past the end's width by more than 0.04 %.
+            assert!(full.patch.point(u, 0.0).x <= 1.0004 * 0.2);
+        }
+        crate::assert_near!(full.patch.point(0.7, 0.0).x / 0.2, 0.678, 1e-3);
+        crate::assert_near!(plain.patch.point(0.7, 0.0).x / 0.2, 0.447, 1e-3);
+        // A fullness of 1 is the plain dome, coefficient for coefficient.
+        assert_eq!(dome_cap(&c, &t, 2.0, 1.0).unwrap(), plain);
+        assert!(matches!(
+            dome_cap(&c, &t, 1.0, Real::NAN),
+            Err(CapError::BadFullness(x)) if x.is_nan()
+        ));
+        assert_eq!(
+            dome_cap(&c, &t, 1.0, 0.0).map(|_| ()),
+            Err(CapError::BadFullness(0.0))
         );
     }
 }

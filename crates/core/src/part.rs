@@ -452,9 +452,12 @@ impl Part {
         let cap = match kind {
             CapKind::Open => return Ok(None),
             CapKind::Flat => flat_cap(curve),
-            CapKind::Dome { relative_height } => {
+            CapKind::Dome {
+                relative_height,
+                fullness,
+            } => {
                 let t = self.end_tangent(start);
-                dome_cap(curve, &t, relative_height)
+                dome_cap(curve, &t, relative_height, fullness)
             }
         };
         cap.map(Some)

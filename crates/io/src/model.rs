@@ -4,7 +4,7 @@
 //! ```json
 //! {
 //!   "format": "trigbody-model",
-//!   "version": 2,
+//!   "version": 3,
 //!   "units": "m",
 //!   "body": { "frame": { "up": [0, 1, 0], "front": [0, 0, 1],
 //!                        "left": [1, 0, 0], "origin": [0, -0.82, 0] },
@@ -52,11 +52,13 @@ use trigbody_core::{
 
 /// The `format` field of every model file.
 pub const MODEL_FORMAT: &str = "trigbody-model";
-/// The model file version this build writes (it reads 1 and 2).
+/// The model file version this build writes (it reads 1 to 3).
 /// Version 2 adds the optional `body` object (the body's frame and height)
 /// and the `transitions` list; a version-1 file reads as a model without
-/// them.
-pub const MODEL_VERSION: u64 = 2;
+/// them. Version 3 adds a dome cap's optional `fullness`: a version-2
+/// reader, which ignores fields it does not know, would build another
+/// dome, so it must refuse the file.
+pub const MODEL_VERSION: u64 = 3;
 
 /// A named part of a model.
 #[derive(Clone, Debug, PartialEq)]
@@ -67,7 +69,7 @@ pub struct ModelPart {
     pub part: Part,
 }
 
-/// A reconstructed body's frame and size (model file version 2).
+/// A reconstructed body's frame and size (model file version 2 and later).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModelBody {
     /// Unit up direction (head above feet).
@@ -547,7 +549,7 @@ pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
         }
     }
     match doc.get("version") {
-        Some(v) if matches!(v.as_u64(), Some(1) | Some(MODEL_VERSION)) => {}
+        Some(v) if matches!(v.as_u64(), Some(1..=MODEL_VERSION)) => {}
         other => {
             return Err(ModelError::UnknownVersion {
                 found: other.map_or("missing".to_string(), |v| v.to_string()),

@@ -130,7 +130,7 @@ fn measurements_do_not_depend_on_placement_or_vertex_order() {
 /// mesh in the same planes (`compare_with_mesh`: convex-hull perimeter of the
 /// mesh loop around the plane's origin), on every body in
 /// `../shared/data/bodies`: girths within 4 mm, volume within 1 %, surface
-/// area within 2 % (volumes +0.69 / +0.78 / +0.74 % on the base, male and
+/// area within 2 % (volumes +0.71 / +0.82 / +0.77 % on the base, male and
 /// female meshes since the sections are fitted to their polygons' edge
 /// midpoints too; about 0.5 % of each is the mesh's mouth cavity, which one
 /// curve per section fills: docs/measure.md).

@@ -67,6 +67,17 @@ fn round_trip_is_exact_for_every_option() {
                 CapKind::Flat,
                 CapKind::Dome {
                     relative_height: 0.7,
+                    fullness: 1.0,
+                },
+            ),
+            (
+                CapKind::Dome {
+                    relative_height: 1.2,
+                    fullness: 1.5,
+                },
+                CapKind::Dome {
+                    relative_height: 0.7,
+                    fullness: 2.0,
                 },
             ),
         ] {
@@ -130,9 +141,9 @@ fn nan_coefficients_are_refused() {
 
 #[test]
 fn unknown_version_and_format_are_refused() {
-    let err = edit(|d| d["version"] = 3.into()).unwrap_err();
+    let err = edit(|d| d["version"] = 4.into()).unwrap_err();
     assert!(matches!(err, ModelError::UnknownVersion { .. }), "{err}");
-    assert!(err.to_string().contains('2'));
+    assert!(err.to_string().contains('3'));
     let err = edit(|d| d["format"] = "something-else".into()).unwrap_err();
     assert!(matches!(err, ModelError::NotAModel { .. }), "{err}");
 }
@@ -264,7 +275,11 @@ fn version_2_body_frame_round_trips_and_version_1_still_reads() {
     });
     assert_eq!(round_trip(&m), m);
     let v2 = text(&m);
-    assert!(v2.contains("\"version\": 2") && v2.contains("\"transitions\": []"));
+    assert!(v2.contains("\"version\": 3") && v2.contains("\"transitions\": []"));
+    // The same document as version 2 (no dome fullness in it) reads alike.
+    let mut doc: serde_json::Value = serde_json::from_str(&v2).unwrap();
+    doc["version"] = 2.into();
+    assert_eq!(read_model(doc.to_string().as_bytes()).unwrap(), m);
     // A version-1 document (no body, no transitions) reads as before.
     let mut doc: serde_json::Value = serde_json::from_str(&v2).unwrap();
     doc["version"] = 1.into();

@@ -301,7 +301,8 @@ pub struct Body {
 
 impl Body {
     /// Design parameters (method.md §7): every section's coefficients,
-    /// origin and frame, plus one height per dome cap, plus each
+    /// origin and frame, plus one height per dome cap (and its fullness when
+    /// not 1), plus each
     /// transition's ([`Transition::design_parameters`]: two magnitudes, and
     /// a seam's point and normal).
     pub fn design_parameters(&self) -> usize {
@@ -309,10 +310,14 @@ impl Body {
             .parts
             .iter()
             .map(|p| {
-                let domes = [p.part.options().start_cap, p.part.options().end_cap]
+                // A dome's height, and its fullness when not the default.
+                let domes: usize = [p.part.options().start_cap, p.part.options().end_cap]
                     .iter()
-                    .filter(|c| matches!(c, CapKind::Dome { .. }))
-                    .count();
+                    .map(|c| match c {
+                        CapKind::Dome { fullness, .. } => 1 + usize::from(*fullness != 1.0),
+                        _ => 0,
+                    })
+                    .sum();
                 p.part.design_parameters() + domes
             })
             .sum();

@@ -176,6 +176,7 @@ pub fn run(args: LoftArgs) -> Result<()> {
         CapFlag::Dome => CapKind::Dome {
             relative_height: args.dome_height,
             fullness: 1.0,
+            axis: trigbody_core::DomeAxis::Tangent,
         },
     };
     let options = PartOptions {

@@ -26,7 +26,12 @@
 //!   `u = 0.7` (0.88 `h` up) `ρ = 0.45 r` for `φ = 1` and `0.68 r` for
 //!   `φ = 2`; `ρ` stays within 0.04 % of `r` before it falls for `φ ≤ 2`.
 //!   A mitten over fingers spread in a fan needs the wider end, and a flat
-//!   hand's thickness does not.
+//!   hand's thickness does not. The **axis** `a` is the mean of `T` by
+//!   default ([`DomeAxis::Tangent`]); with [`DomeAxis::Normal`] it is the
+//!   end curve's plane normal (on `T`'s side), the apex straight above the
+//!   curve's centre: where the last sections' centres drift sideways (a
+//!   hand whose last loops shift with the thumb and fingers) the tangent's
+//!   mean tilts by tens of degrees and the dome points past the fingers.
 
 use crate::curve::{SpaceCurve, TrigCurve};
 use crate::math::{Point3, Real, Vec3};
@@ -53,7 +58,27 @@ pub enum CapKind {
         relative_height: Real,
         #[serde(default = "unit", skip_serializing_if = "is_unit")]
         fullness: Real,
+        #[serde(default, skip_serializing_if = "DomeAxis::is_tangent")]
+        axis: DomeAxis,
     },
+}
+
+/// Which way a dome rises from its end curve (module doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DomeAxis {
+    /// Along the mean of the part's end tangent (the default, left out of
+    /// files).
+    #[default]
+    Tangent,
+    /// Along the end curve's plane normal, on the tangent's side.
+    Normal,
+}
+
+impl DomeAxis {
+    fn is_tangent(&self) -> bool {
+        *self == DomeAxis::Tangent
+    }
 }
 
 fn unit() -> Real {
@@ -73,6 +98,7 @@ impl CapKind {
         CapKind::Dome {
             relative_height: DEFAULT_DOME_HEIGHT,
             fullness: 1.0,
+            axis: DomeAxis::Tangent,
         }
     }
 }
@@ -187,6 +213,7 @@ pub fn dome_cap(
     tangent: &SpaceCurve,
     relative_height: Real,
     fullness: Real,
+    axis: DomeAxis,
 ) -> Result<Cap, CapError> {
     if !(relative_height.is_finite() && relative_height > 0.0) {
         return Err(CapError::BadHeight(relative_height));
@@ -196,9 +223,25 @@ pub fn dome_cap(
     }
     let c = curve.world_series();
     let g = centre(curve);
-    let axis = Vec3::new(tangent.x.c[0], tangent.y.c[0], tangent.z.c[0])
+    let kind = CapKind::Dome {
+        relative_height,
+        fullness,
+        axis,
+    };
+    let mean = Vec3::new(tangent.x.c[0], tangent.y.c[0], tangent.z.c[0])
         .normalized()
         .ok_or(CapError::NoAxis)?;
+    let axis = match axis {
+        DomeAxis::Tangent => mean,
+        DomeAxis::Normal => {
+            let n = curve.frame.normal();
+            if n.dot(mean) < 0.0 {
+                -n
+            } else {
+                n
+            }
+        }
+    };
     // Mean radius from the area; the RMS distance to the centre when flat.
     let mut radius = (curve.area().abs() / PI).sqrt();
     if radius.is_nan() || radius <= 0.0 {
@@ -253,14 +296,7 @@ pub fn dome_cap(
         },
     };
     let patch = Patch::hermite(&c, &t0, &constant_curve(apex, order), &d)?;
-    Ok(Cap {
-        kind: CapKind::Dome {
-            relative_height,
-            fullness,
-        },
-        patch,
-        apex,
-    })
+    Ok(Cap { kind, patch, apex })
 }
 
 #[cfg(test)]
@@ -291,7 +327,7 @@ mod tests {
     fn dome_on_a_cylinder_is_nearly_a_hemisphere_and_smooth() {
         let r = 0.2;
         let c = TrigCurve::circle(Frame::XY, r, 2);
-        let cap = dome_cap(&c, &unit_axis_tangent(2), 1.0, 1.0).unwrap();
+        let cap = dome_cap(&c, &unit_axis_tangent(2), 1.0, 1.0, DomeAxis::Tangent).unwrap();
         assert!((cap.apex - Vec3::new(0.0, 0.0, r)).norm() < 1e-14);
         for i in 0..24 {
             let v = i as Real * 0.26;
@@ -308,7 +344,7 @@ mod tests {
             assert!((n - Vec3::Z).norm() < 1e-4);
         }
         assert_eq!(
-            dome_cap(&c, &unit_axis_tangent(2), -1.0, 1.0),
+            dome_cap(&c, &unit_axis_tangent(2), -1.0, 1.0, DomeAxis::Tangent),
             Err(CapError::BadHeight(-1.0))
         );
     }
@@ -318,8 +354,8 @@ mod tests {
         // An elliptic end, semi-axes 0.2 (x) and 0.1 (y), like a flat hand.
         let c = TrigCurve::new(Frame::XY, vec![0.0, 0.2, 0.0], vec![0.0, 0.1, 0.0]).unwrap();
         let t = unit_axis_tangent(2);
-        let plain = dome_cap(&c, &t, 2.0, 1.0).unwrap();
-        let full = dome_cap(&c, &t, 2.0, 2.0).unwrap();
+        let plain = dome_cap(&c, &t, 2.0, 1.0, DomeAxis::Tangent).unwrap();
+        let full = dome_cap(&c, &t, 2.0, 2.0, DomeAxis::Tangent).unwrap();
         assert!((plain.apex - full.apex).norm() < 1e-15);
         for k in 0..=20 {
             let u = k as Real / 20.0;
@@ -344,14 +380,42 @@ mod tests {
         crate::assert_near!(full.patch.point(0.7, 0.0).x / 0.2, 0.678, 1e-3);
         crate::assert_near!(plain.patch.point(0.7, 0.0).x / 0.2, 0.447, 1e-3);
         // A fullness of 1 is the plain dome, coefficient for coefficient.
-        assert_eq!(dome_cap(&c, &t, 2.0, 1.0).unwrap(), plain);
+        assert_eq!(
+            dome_cap(&c, &t, 2.0, 1.0, DomeAxis::Tangent).unwrap(),
+            plain
+        );
         assert!(matches!(
-            dome_cap(&c, &t, 1.0, Real::NAN),
+            dome_cap(&c, &t, 1.0, Real::NAN, DomeAxis::Tangent),
             Err(CapError::BadFullness(x)) if x.is_nan()
         ));
         assert_eq!(
-            dome_cap(&c, &t, 1.0, 0.0).map(|_| ()),
+            dome_cap(&c, &t, 1.0, 0.0, DomeAxis::Tangent).map(|_| ()),
             Err(CapError::BadFullness(0.0))
         );
+    }
+
+    #[test]
+    fn a_dome_along_the_normal_rises_above_the_centre_whatever_the_tangent() {
+        let c = TrigCurve::circle(Frame::XY, 0.1, 2);
+        // A tangent tilted 45 degrees in x.
+        let t = constant_curve(Vec3::new(1.0, 0.0, 1.0), 2);
+        let along = dome_cap(&c, &t, 1.5, 1.0, DomeAxis::Normal).unwrap();
+        assert!((along.apex - Vec3::new(0.0, 0.0, 0.15)).norm() < 1e-14);
+        let tilted = dome_cap(&c, &t, 1.5, 1.0, DomeAxis::Tangent).unwrap();
+        let s = 0.15 / 2f64.sqrt();
+        assert!((tilted.apex - Vec3::new(s, 0.0, s)).norm() < 1e-14);
+        // Both leave the curve along the part's tangent (C1 at u = 0).
+        for cap in [&along, &tilted] {
+            for i in 0..8 {
+                let v = i as Real * 0.8;
+                assert!((cap.patch.point(0.0, v) - c.point(v)).norm() < 1e-15);
+                let du = cap.patch.du(0.0, v).normalized().unwrap();
+                assert!((du - Vec3::new(1.0, 0.0, 1.0).normalized().unwrap()).norm() < 1e-14);
+            }
+        }
+        // A normal against the tangent is turned to the tangent's side.
+        let down = constant_curve(Vec3::new(0.0, 0.0, -1.0), 2);
+        let below = dome_cap(&c, &down, 1.0, 1.0, DomeAxis::Normal).unwrap();
+        assert!((below.apex - Vec3::new(0.0, 0.0, -0.1)).norm() < 1e-14);
     }
 }

@@ -42,7 +42,7 @@ pub mod transition;
 pub mod visibility;
 
 pub use body::{reconstruct, Body, BodyPart, ReconstructError, ReconstructOptions, Report, Units};
-pub use cap::{Cap, CapKind};
+pub use cap::{Cap, CapKind, DomeAxis};
 pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use ellipse::EllipseFit;
 pub use fit::{

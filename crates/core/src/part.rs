@@ -455,9 +455,10 @@ impl Part {
             CapKind::Dome {
                 relative_height,
                 fullness,
+                axis,
             } => {
                 let t = self.end_tangent(start);
-                dome_cap(curve, &t, relative_height, fullness)
+                dome_cap(curve, &t, relative_height, fullness, axis)
             }
         };
         cap.map(Some)

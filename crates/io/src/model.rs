@@ -55,9 +55,9 @@ pub const MODEL_FORMAT: &str = "trigbody-model";
 /// The model file version this build writes (it reads 1 to 3).
 /// Version 2 adds the optional `body` object (the body's frame and height)
 /// and the `transitions` list; a version-1 file reads as a model without
-/// them. Version 3 adds a dome cap's optional `fullness`: a version-2
-/// reader, which ignores fields it does not know, would build another
-/// dome, so it must refuse the file.
+/// them. Version 3 adds a dome cap's optional `fullness` and `axis`: a
+/// version-2 reader, which ignores fields it does not know, would build
+/// another dome, so it must refuse the file.
 pub const MODEL_VERSION: u64 = 3;
 
 /// A named part of a model.

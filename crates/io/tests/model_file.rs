@@ -68,16 +68,19 @@ fn round_trip_is_exact_for_every_option() {
                 CapKind::Dome {
                     relative_height: 0.7,
                     fullness: 1.0,
+                    axis: trigbody_core::DomeAxis::Tangent,
                 },
             ),
             (
                 CapKind::Dome {
                     relative_height: 1.2,
                     fullness: 1.5,
+                    axis: trigbody_core::DomeAxis::Normal,
                 },
                 CapKind::Dome {
                     relative_height: 0.7,
                     fullness: 2.0,
+                    axis: trigbody_core::DomeAxis::Tangent,
                 },
             ),
         ] {

@@ -301,8 +301,8 @@ pub struct Body {
 
 impl Body {
     /// Design parameters (method.md §7): every section's coefficients,
-    /// origin and frame, plus one height per dome cap (and its fullness when
-    /// not 1), plus each
+    /// origin and frame, plus one height per dome cap (and its fullness and
+    /// axis when not the defaults), plus each
     /// transition's ([`Transition::design_parameters`]: two magnitudes, and
     /// a seam's point and normal).
     pub fn design_parameters(&self) -> usize {
@@ -310,11 +310,15 @@ impl Body {
             .parts
             .iter()
             .map(|p| {
-                // A dome's height, and its fullness when not the default.
+                // A dome's height, and its fullness and axis when not the
+                // defaults.
                 let domes: usize = [p.part.options().start_cap, p.part.options().end_cap]
                     .iter()
                     .map(|c| match c {
-                        CapKind::Dome { fullness, .. } => 1 + usize::from(*fullness != 1.0),
+                        CapKind::Dome { fullness, axis, .. } => {
+                            1 + usize::from(*fullness != 1.0)
+                                + usize::from(*axis != crate::cap::DomeAxis::Tangent)
+                        }
                         _ => 0,
                     })
                     .sum();

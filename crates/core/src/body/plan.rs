@@ -1,6 +1,7 @@
 //! Cutting, fitting, refining and skinning each part (pipeline steps 2-3).
 
 use super::*;
+use crate::cap::DomeAxis;
 use crate::distance::parallel_map;
 
 /// One cut-and-fitted section.
@@ -408,7 +409,7 @@ pub(super) fn build_part(
     } = plan;
     let mut dome_retries = 0;
     let mut end_measured = false;
-    let mut fullness_chosen = false;
+    let mut shape_chosen = false;
     let sole = matches!(name, PartName::LeftLeg | PartName::RightLeg);
     loop {
         if cuts.len() < 2 {
@@ -475,20 +476,21 @@ pub(super) fn build_part(
                         continue;
                     }
                 }
-                // Then how full the dome is, on the kept sections.
+                // Then a hand dome's shape, on the kept sections.
                 let hand = matches!(name, PartName::LeftArm | PartName::RightArm);
-                if let (Some(check), true, false) = (end_check, hand, fullness_chosen) {
-                    fullness_chosen = true;
+                if let (Some(check), true, false) = (end_check, hand, shape_chosen) {
+                    shape_chosen = true;
                     if let (
-                        Some(fullness),
+                        Some((fullness, axis)),
                         CapKind::Dome {
                             relative_height, ..
                         },
-                    ) = (fuller_end(&cuts, tip, &options, check), end_cap)
+                    ) = (shaped_end(&cuts, tip, &options, check), end_cap)
                     {
                         end_cap = CapKind::Dome {
                             relative_height,
                             fullness,
+                            axis,
                         };
                         continue;
                     }
@@ -532,8 +534,8 @@ pub(super) fn build_part(
 
 /// A dome end (`tip` given) sized to reach the tip: its height is the
 /// tip's distance from the last section's plane, relative to the last
-/// loop's mean radius `√(A/π)` (clamped to `[0.02, 4]`), its fullness
-/// kept from `cap`; `cap` unchanged without a tip.
+/// loop's mean radius `√(A/π)` (clamped to `[0.02, 4]`), its fullness and
+/// axis kept from `cap`; `cap` unchanged without a tip.
 fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
     let (Some(tip), Some(last)) = (tip, cuts.last()) else {
         return cap;
@@ -544,12 +546,14 @@ fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
         .dot(c.frame.e1.cross(c.frame.e2))
         .abs();
     if r > 0.0 && d > 0.0 {
+        let (fullness, axis) = match cap {
+            CapKind::Dome { fullness, axis, .. } => (fullness, axis),
+            _ => (1.0, DomeAxis::Tangent),
+        };
         CapKind::Dome {
             relative_height: (d / r).clamp(0.02, 4.0),
-            fullness: match cap {
-                CapKind::Dome { fullness, .. } => fullness,
-                _ => 1.0,
-            },
+            fullness,
+            axis,
         }
     } else {
         cap
@@ -650,29 +654,31 @@ fn near_end(cuts: &[Cut], tip: Point3, points: &[Point3]) -> Option<Vec<Point3>>
     )
 }
 
-/// The dome fullnesses [`fuller_end`] tries besides 1.
+/// The dome fullnesses [`shaped_end`] tries besides 1.
 const DOME_FULLNESS: [Real; 2] = [1.5, 2.0];
 
-/// The fullness of a hand's dome (module doc of [`crate::cap`]: wider
-/// across the hand towards the tip) that fits the input best both ways
-/// ([`end_error`]), from 1 and [`DOME_FULLNESS`], each end built from the
-/// part's last ten sections; `None` when 1 is best (or nothing could be
-/// measured). A mitten over fingers spread in a fan: a dome that narrows
-/// like a quarter circle leaves the outer fingertips bare (the male mesh:
-/// 455 of 60 000 input samples uncovered at 0.55 H, most of them
-/// fingertips). Hands only: a head's crown is round (and a scan's crown
+/// The shape of a hand's dome (module doc of [`crate::cap`]) that fits
+/// the input best both ways ([`end_error`]): its fullness (wider across the
+/// hand towards the tip) from 1 and [`DOME_FULLNESS`], and its axis (the
+/// part's end tangent or the last section's normal), each end built from
+/// the part's last ten sections; `None` when the plain dome (fullness 1
+/// along the tangent) is best, or nothing could be measured.
+///
+/// A mitten over fingers spread in a fan: a dome that narrows like a
+/// quarter circle leaves the outer fingertips bare (the male mesh: 455 of
+/// 60 000 input samples uncovered at 0.55 H, most of them fingertips); and
+/// where the last hand loops' centres drift with the thumb and fingers,
+/// the end tangent tilts (measured on the shared meshes: the plain dome's
+/// apex 49-55 mm from the hand tip, 60-67 mm off the last section's
+/// normal). Hands only: a head's crown is round (and a scan's crown
 /// unobserved), a sole's dome shallow. Measured on the shared bodies
-/// (`reconstruct_real`): the meshes' coverage +0.05-0.09 points and RMS
-/// −0.03-0.05 mm, the scans' coverage +0.00-0.09 points and p95
-/// +0.00-0.06 mm; widening the whole ellipse instead made the palm and
-/// back thicker (the male mesh's coverage fell) and, on the heads too,
-/// cost the scans 0.1-0.35 points of coverage.
-fn fuller_end(
+/// (`reconstruct_real`, docs/reconstruct.md "Mitten end").
+fn shaped_end(
     cuts: &[Cut],
     tip: Option<Point3>,
     options: &PartOptions,
     (input, points, _): (&InputDistance, &[Point3], Real),
-) -> Option<Real> {
+) -> Option<(Real, DomeAxis)> {
     let tip = tip?;
     let CapKind::Dome {
         relative_height, ..
@@ -683,15 +689,23 @@ fn fuller_end(
     let near = near_end(cuts, tip, points)?;
     let from = cuts.len().saturating_sub(10);
     let curves: Vec<TrigCurve> = cuts[from..].iter().map(|c| c.fit.curve.clone()).collect();
-    let phis: Vec<Real> = std::iter::once(1.0).chain(DOME_FULLNESS).collect();
-    let errors: Vec<Option<Real>> = parallel_map(&phis, 1, |run| {
+    let shapes: Vec<(Real, DomeAxis)> = [DomeAxis::Tangent, DomeAxis::Normal]
+        .into_iter()
+        .flat_map(|axis| {
+            std::iter::once(1.0)
+                .chain(DOME_FULLNESS)
+                .map(move |f| (f, axis))
+        })
+        .collect();
+    let errors: Vec<Option<Real>> = parallel_map(&shapes, 1, |run| {
         run.iter()
-            .map(|&fullness| {
+            .map(|&(fullness, axis)| {
                 let o = PartOptions {
                     start_cap: CapKind::Open,
                     end_cap: CapKind::Dome {
                         relative_height,
                         fullness,
+                        axis,
                     },
                     ..*options
                 };
@@ -702,13 +716,13 @@ fn fuller_end(
             .collect()
     });
     let plain = errors[0]?;
-    let (phi, best) = phis
+    let (shape, best) = shapes
         .iter()
         .zip(&errors)
         .skip(1)
-        .filter_map(|(&f, e)| e.map(|e| (f, e)))
+        .filter_map(|(&s, e)| e.map(|e| (s, e)))
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
-    (best < plain).then_some(phi)
+    (best < plain).then_some(shape)
 }
 
 /// The end's error both ways: `√((d_out² + d_in²)/2)` with `d_out` the

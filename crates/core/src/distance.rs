@@ -553,6 +553,16 @@ pub fn coherent_map<S: Default>(
     out
 }
 
+/// The cores the parallel helpers use: the available parallelism, at most
+/// 8, asked once per process. Each `std::thread::available_parallelism`
+/// call reads the cgroup files (about 20 µs here), and a reconstruction
+/// asks about a thousand times (most calls on a few points, which stay on
+/// one core anyway): 20 ms of the main thread's time.
+pub fn cores() -> usize {
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |c| c.get().min(8)))
+}
+
 /// `f` over contiguous runs of `items`, one per available core (at most
 /// 8, and each run at least `min_run` items long), concatenated in order:
 /// the same result as `f(items)` when `f` maps each item on its own.
@@ -561,7 +571,7 @@ pub fn parallel_map<T: Sync, R: Send>(
     min_run: usize,
     f: impl Fn(&[T]) -> Vec<R> + Sync,
 ) -> Vec<R> {
-    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let cores = cores();
     let runs = cores.min(items.len() / min_run.max(1)).max(1);
     if runs == 1 {
         return f(items);
@@ -589,7 +599,7 @@ pub fn parallel_map<T: Sync, R: Send>(
 /// cost (a torso and a transition) balance better than in fixed runs.
 pub(crate) fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     use std::sync::atomic::{AtomicUsize, Ordering};
-    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let cores = cores();
     let threads = cores.min(items.len());
     if threads <= 1 {
         return items.iter().map(f).collect();

@@ -322,22 +322,30 @@ impl<'a> PointGrid<'a> {
             starts: vec![0; n + 1],
             sorted: Vec::new(),
         };
-        let keys: Vec<Option<usize>> = points
+        // Each point's cell (`u32::MAX` for a point left out: the grid
+        // has at most ~4M cells).
+        let keys: Vec<u32> = points
             .iter()
-            .map(|p| p.is_finite().then(|| grid.key(grid.coords(*p))))
+            .map(|p| {
+                if p.is_finite() {
+                    grid.key(grid.coords(*p)) as u32
+                } else {
+                    u32::MAX
+                }
+            })
             .collect();
-        for k in keys.iter().flatten() {
-            grid.starts[k + 1] += 1;
+        for &k in keys.iter().filter(|&&k| k != u32::MAX) {
+            grid.starts[k as usize + 1] += 1;
         }
         for i in 0..n {
             grid.starts[i + 1] += grid.starts[i];
         }
         let mut fill = grid.starts.clone();
         grid.sorted = vec![Vec3::ZERO; grid.starts[n] as usize];
-        for (p, k) in points.iter().zip(&keys) {
-            if let Some(k) = k {
-                grid.sorted[fill[*k] as usize] = *p;
-                fill[*k] += 1;
+        for (p, &k) in points.iter().zip(&keys) {
+            if k != u32::MAX {
+                grid.sorted[fill[k as usize] as usize] = *p;
+                fill[k as usize] += 1;
             }
         }
         grid

@@ -909,7 +909,17 @@ mod tests {
     #[test]
     fn outward_rounding_brackets_the_value() {
         for x in [
-            0.0, 0.1, -0.1, 1.0, 1.0 + 1e-12, -1.7e-3, 1e-42, -1e-42, 3e38, 1e39, -1e39,
+            0.0,
+            0.1,
+            -0.1,
+            1.0,
+            1.0 + 1e-12,
+            -1.7e-3,
+            1e-42,
+            -1e-42,
+            3e38,
+            1e39,
+            -1e39,
         ] {
             let (lo, hi) = (f32_down(x), f32_up(x));
             assert!((lo as Real) <= x && (hi as Real) >= x, "{x}");

@@ -514,15 +514,24 @@ impl DistanceStats {
             return DistanceStats::default();
         }
         let n = d.len() as Real;
-        let mut sorted = d.to_vec();
-        sorted.sort_by(Real::total_cmp);
+        // The k-th smallest by a selection, not a sort (the same element
+        // in the same total order; linear time).
+        let mut work = d.to_vec();
         let k = ((0.95 * (d.len() - 1) as Real).round() as usize).min(d.len() - 1);
+        let (_, &mut p95, above) = work.select_nth_unstable_by(k, Real::total_cmp);
+        let max = above.iter().copied().fold(p95, |m, x| {
+            if x.total_cmp(&m).is_gt() {
+                x
+            } else {
+                m
+            }
+        });
         DistanceStats {
             count: d.len(),
             rms: (d.iter().map(|x| x * x).sum::<Real>() / n).sqrt(),
             mean: d.iter().sum::<Real>() / n,
-            p95: sorted[k],
-            max: sorted[d.len() - 1],
+            p95,
+            max,
         }
     }
 }

@@ -445,18 +445,26 @@ pub(crate) fn section_of_slab(
 /// pairs, in linear time (a few passes over 200 000 heights instead of a
 /// comparison sort).
 pub(crate) fn sort_keyed(keyed: &mut Vec<(u64, u32)>) {
-    let mut scratch = vec![(0u64, 0u32); keyed.len()];
-    for shift in (0..64).step_by(8) {
-        let mut count = [0usize; 257];
-        for k in keyed.iter() {
-            count[((k.0 >> shift) & 0xff) as usize + 1] += 1;
+    // Every digit's counts in one pass (a pass moves the keys, not their
+    // digits' counts).
+    let mut counts = vec![[0usize; 257]; 8];
+    for k in keyed.iter() {
+        for (d, count) in counts.iter_mut().enumerate() {
+            count[((k.0 >> (8 * d)) & 0xff) as usize + 1] += 1;
         }
+    }
+    let mut scratch = Vec::new();
+    for (d, count) in counts.iter_mut().enumerate() {
         if count.contains(&keyed.len()) {
             continue; // every key has this digit
+        }
+        if scratch.len() != keyed.len() {
+            scratch = vec![(0u64, 0u32); keyed.len()];
         }
         for b in 0..256 {
             count[b + 1] += count[b];
         }
+        let shift = 8 * d;
         for k in keyed.iter() {
             let b = ((k.0 >> shift) & 0xff) as usize;
             scratch[count[b]] = *k;

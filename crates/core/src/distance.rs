@@ -519,11 +519,10 @@ impl DistanceStats {
         let mut work = d.to_vec();
         let k = ((0.95 * (d.len() - 1) as Real).round() as usize).min(d.len() - 1);
         let (_, &mut p95, above) = work.select_nth_unstable_by(k, Real::total_cmp);
-        let max =
-            above
-                .iter()
-                .copied()
-                .fold(p95, |m, x| if x.total_cmp(&m).is_gt() { x } else { m });
+        let max = above
+            .iter()
+            .copied()
+            .fold(p95, |m, x| if x.total_cmp(&m).is_gt() { x } else { m });
         DistanceStats {
             count: d.len(),
             rms: (d.iter().map(|x| x * x).sum::<Real>() / n).sqrt(),

@@ -930,10 +930,14 @@ mod tests {
             let (lo, hi) = (f32_down(x), f32_up(x));
             assert!((lo as Real) <= x && (hi as Real) >= x, "{x}");
             // The nearest on its side: the next f32 up from `lo` passes x.
-            let next_up = |f: f32| match f {
-                f if f == 0.0 => f32::from_bits(1),
-                f if f > 0.0 => f32::from_bits(f.to_bits() + 1),
-                f => f32::from_bits(f.to_bits() - 1),
+            let next_up = |f: f32| {
+                if f == 0.0 {
+                    f32::from_bits(1)
+                } else if f > 0.0 {
+                    f32::from_bits(f.to_bits() + 1)
+                } else {
+                    f32::from_bits(f.to_bits() - 1)
+                }
             };
             assert!((next_up(lo) as Real) > x, "{x}");
             assert_eq!(f32_up(x), -f32_down(-x));

@@ -570,7 +570,10 @@ fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real]) -> Optio
     for s in 0..samples {
         let i = s * n / samples;
         let p = points[order[i] as usize];
-        let mut best = Real::INFINITY;
+        // `best` is √best2 (the root is monotone: a squared distance not
+        // below best2 cannot give a root below best, so only the others
+        // take one).
+        let (mut best, mut best2) = (Real::INFINITY, Real::INFINITY);
         for dir in [-1isize, 1] {
             let mut j = i as isize + dir;
             let mut steps = 0;
@@ -580,9 +583,12 @@ fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real]) -> Optio
                     break;
                 }
                 let q = points[order[j as usize] as usize];
-                let dist = p.distance(q);
-                if dist > 0.0 && dist < best {
-                    best = dist;
+                let d2 = (p - q).norm_squared();
+                if d2 > 0.0 && d2 < best2 {
+                    let dist = d2.sqrt();
+                    if dist < best {
+                        (best, best2) = (dist, d2);
+                    }
                 }
                 j += dir;
                 steps += 1;

@@ -329,12 +329,15 @@ impl<'a> PointGrid<'a> {
             sorted: Vec::new(),
         };
         // Each point's cell (`u32::MAX` for a point left out: the grid
-        // has at most ~4M cells).
+        // has at most ~4M cells). The grid's origin is the finite points'
+        // minimum, so their offsets are at least 0 and truncation is the
+        // floor of `coords` (without a call to `floor` per coordinate).
         let keys: Vec<u32> = points
             .iter()
             .map(|p| {
                 if p.is_finite() {
-                    grid.key(grid.coords(*p)) as u32
+                    let d = (*p - grid.origin) / grid.cell;
+                    grid.key([d.x as i64, d.y as i64, d.z as i64]) as u32
                 } else {
                     u32::MAX
                 }

@@ -90,7 +90,9 @@ pub(crate) fn grid_layout(
 /// `cell`, `dims`), clamped to the grid.
 pub(crate) fn grid_cell(p: Point3, origin: Point3, cell: Real, dims: [usize; 3]) -> [usize; 3] {
     let d = (p - origin) / cell;
-    let c = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+    // `v as usize` is `v.floor().max(0.0) as usize` for every `v` (the
+    // cast truncates, takes negatives and NaN to 0 and saturates).
+    let c = |v: Real, n: usize| (v as usize).min(n - 1);
     [c(d.x, dims[0]), c(d.y, dims[1]), c(d.z, dims[2])]
 }
 

@@ -622,8 +622,11 @@ impl Grid {
     }
 
     fn cell(&self, p: Point2) -> usize {
-        let x = (((p.x - self.origin.x) / self.cell).floor().max(0.0) as usize).min(self.w - 1);
-        let y = (((p.y - self.origin.y) / self.cell).floor().max(0.0) as usize).min(self.h - 1);
+        // `v as usize` is `v.floor().max(0.0) as usize` for every `v` (the
+        // cast truncates, takes negatives and NaN to 0 and saturates),
+        // without a call to `floor`.
+        let x = (((p.x - self.origin.x) / self.cell) as usize).min(self.w - 1);
+        let y = (((p.y - self.origin.y) / self.cell) as usize).min(self.h - 1);
         y * self.w + x
     }
 

@@ -8,13 +8,65 @@ use crate::mesh::{Aabb, Mesh};
 /// Triangles per leaf of the hierarchy.
 const LEAF_SIZE: usize = 4;
 
+/// A node of [`MeshDistance`]'s hierarchy: 32 bytes, so two siblings
+/// (stored side by side) fill one 64-byte cache line. Its box is stored
+/// in single precision rounded outward ([`Node::boxed`]): it holds the
+/// exact box of its triangles, so a query that prunes by it prunes no
+/// triangle the exact box would keep (it may visit a node more, never
+/// one less), and every distance is still computed in double precision
+/// from the triangles.
 #[derive(Clone, Copy, Debug)]
 struct Node {
-    bounds: Aabb,
+    lo: [f32; 3],
+    hi: [f32; 3],
     /// Leaf: first triangle index in `order`, count. Inner: left child index
     /// (right child is `left + 1`), count 0.
     start: u32,
     count: u32,
+}
+
+/// The largest `f32` at most `x` (`x` finite or infinite).
+fn f32_down(x: Real) -> f32 {
+    let f = x as f32;
+    if (f as Real) <= x {
+        f
+    } else if f == 0.0 {
+        -f32::from_bits(1)
+    } else if f > 0.0 {
+        f32::from_bits(f.to_bits() - 1)
+    } else {
+        f32::from_bits(f.to_bits() + 1)
+    }
+}
+
+/// The smallest `f32` at least `x`.
+fn f32_up(x: Real) -> f32 {
+    -f32_down(-x)
+}
+
+impl Node {
+    /// The node's box in double precision (the stored one, exactly).
+    #[inline]
+    fn bounds(&self) -> Aabb {
+        let v = |a: [f32; 3]| Vec3::new(a[0] as Real, a[1] as Real, a[2] as Real);
+        Aabb {
+            min: v(self.lo),
+            max: v(self.hi),
+        }
+    }
+
+    /// The smallest single-precision box holding `b`.
+    fn boxed(&mut self, b: &Aabb) {
+        self.lo = [f32_down(b.min.x), f32_down(b.min.y), f32_down(b.min.z)];
+        self.hi = [f32_up(b.max.x), f32_up(b.max.y), f32_up(b.max.z)];
+    }
+
+    /// Squared distance from `p` to the box (0 inside), as
+    /// [`box_distance_sq`] of [`Node::bounds`].
+    #[inline]
+    fn distance_sq(&self, p: Point3) -> Real {
+        box_distance_sq(&self.bounds(), p)
+    }
 }
 
 /// A bounding-volume hierarchy over a mesh's triangles for nearest-point
@@ -145,12 +197,12 @@ impl<'m> MeshDistance<'m> {
     /// return `None`.
     pub fn new(mesh: &'m Mesh) -> MeshDistance<'m> {
         let n = mesh.triangles.len();
-        let bounds: Vec<Aabb> = (0..n).map(|t| tri_bounds(mesh, t)).collect();
-        let (order, codes) = morton_order(&bounds);
+        let (order, codes) = morton_sort_by(n, |t| tri_bounds(mesh, t).center());
         let mut nodes: Vec<Node> = Vec::with_capacity(2 * n / LEAF_SIZE + 1);
         if n > 0 {
             let empty = Node {
-                bounds: bounds[0],
+                lo: [0.0; 3],
+                hi: [0.0; 3],
                 start: 0,
                 count: 0,
             };
@@ -178,20 +230,26 @@ impl<'m> MeshDistance<'m> {
                 stack.push((left, s, mid));
                 stack.push((left + 1, mid, e));
             }
-            // Children come after their parents: boxes bottom-up.
+            // Children come after their parents: boxes bottom-up (a
+            // leaf's from its triangles, an inner node's the union of
+            // its children's, both rounded outward).
             for ni in (0..nodes.len()).rev() {
                 let node = nodes[ni];
-                nodes[ni].bounds = if node.count > 0 {
+                let b = if node.count > 0 {
                     let s = node.start as usize;
                     order[s..s + node.count as usize]
                         .iter()
-                        .map(|&t| bounds[t as usize])
+                        .map(|&t| tri_bounds(mesh, t as usize))
                         .reduce(union)
-                        .unwrap_or(node.bounds)
+                        .unwrap_or(Aabb {
+                            min: Vec3::ZERO,
+                            max: Vec3::ZERO,
+                        })
                 } else {
                     let l = node.start as usize;
-                    union(nodes[l].bounds, nodes[l + 1].bounds)
+                    union(nodes[l].bounds(), nodes[l + 1].bounds())
                 };
+                nodes[ni].boxed(&b);
             }
         }
         MeshDistance { mesh, nodes, order }
@@ -290,7 +348,7 @@ impl<'m> MeshDistance<'m> {
         }
         while let Some(ni) = stack.pop() {
             let n = &self.nodes[ni as usize];
-            if !node(ni as usize) || ray_box(&n.bounds, o, inv, length).is_none() {
+            if !node(ni as usize) || ray_box(&n.bounds(), o, inv, length).is_none() {
                 continue;
             }
             let s = n.start as usize;
@@ -326,11 +384,12 @@ impl<'m> MeshDistance<'m> {
         }
         while let Some(ni) = stack.pop() {
             let n = &self.nodes[ni as usize];
-            if !node(ni as usize) || !n.bounds.overlaps(region) {
+            let bounds = n.bounds();
+            if !node(ni as usize) || !bounds.overlaps(region) {
                 continue;
             }
             if n.count > 0 {
-                visit(&n.bounds);
+                visit(&bounds);
             } else {
                 stack.push(n.start);
                 stack.push(n.start + 1);
@@ -380,7 +439,7 @@ impl<'m> MeshDistance<'m> {
             });
         }
         let mut stack: Vec<(u32, Real)> = Vec::with_capacity(64);
-        stack.push((0, box_distance_sq(&self.nodes[0].bounds, p)));
+        stack.push((0, self.nodes[0].distance_sq(p)));
         while let Some((ni, dn)) = stack.pop() {
             if dn >= best_sq {
                 continue;
@@ -404,7 +463,7 @@ impl<'m> MeshDistance<'m> {
                 let (l, r) = (node.start, node.start + 1);
                 let box_sq = |c: u32| {
                     if node_ok(c as usize) {
-                        box_distance_sq(&self.nodes[c as usize].bounds, p)
+                        self.nodes[c as usize].distance_sq(p)
                     } else {
                         Real::INFINITY
                     }
@@ -455,15 +514,21 @@ impl DistanceStats {
             return DistanceStats::default();
         }
         let n = d.len() as Real;
-        let mut sorted = d.to_vec();
-        sorted.sort_by(Real::total_cmp);
+        // The k-th smallest by a selection, not a sort (the same element
+        // in the same total order; linear time).
+        let mut work = d.to_vec();
         let k = ((0.95 * (d.len() - 1) as Real).round() as usize).min(d.len() - 1);
+        let (_, &mut p95, above) = work.select_nth_unstable_by(k, Real::total_cmp);
+        let max = above
+            .iter()
+            .copied()
+            .fold(p95, |m, x| if x.total_cmp(&m).is_gt() { x } else { m });
         DistanceStats {
             count: d.len(),
             rms: (d.iter().map(|x| x * x).sum::<Real>() / n).sqrt(),
             mean: d.iter().sum::<Real>() / n,
-            p95: sorted[k],
-            max: sorted[d.len() - 1],
+            p95,
+            max,
         }
     }
 }
@@ -553,6 +618,16 @@ pub fn coherent_map<S: Default>(
     out
 }
 
+/// The cores the parallel helpers use: the available parallelism, at most
+/// 8, asked once per process. Each `std::thread::available_parallelism`
+/// call reads the cgroup files (about 20 µs here), and a reconstruction
+/// asks about a thousand times (most calls on a few points, which stay on
+/// one core anyway): 20 ms of the main thread's time.
+pub fn cores() -> usize {
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |c| c.get().min(8)))
+}
+
 /// `f` over contiguous runs of `items`, one per available core (at most
 /// 8, and each run at least `min_run` items long), concatenated in order:
 /// the same result as `f(items)` when `f` maps each item on its own.
@@ -561,7 +636,7 @@ pub fn parallel_map<T: Sync, R: Send>(
     min_run: usize,
     f: impl Fn(&[T]) -> Vec<R> + Sync,
 ) -> Vec<R> {
-    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let cores = cores();
     let runs = cores.min(items.len() / min_run.max(1)).max(1);
     if runs == 1 {
         return f(items);
@@ -589,7 +664,7 @@ pub fn parallel_map<T: Sync, R: Send>(
 /// cost (a torso and a transition) balance better than in fixed runs.
 pub(crate) fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     use std::sync::atomic::{AtomicUsize, Ordering};
-    let cores = std::thread::available_parallelism().map_or(1, |c| c.get().min(8));
+    let cores = cores();
     let threads = cores.min(items.len());
     if threads <= 1 {
         return items.iter().map(f).collect();
@@ -620,22 +695,26 @@ pub(crate) fn each_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R +
     all.into_iter().map(|(_, r)| r).collect()
 }
 
-/// The triangles' order along a Morton curve of their box centres and the
-/// codes in that order (see [`MeshDistance::new`]): 10 bits per axis of
-/// the centres' bounding box, interleaved; sorted by an LSD radix sort
-/// (stable: equal codes keep their index order).
-fn morton_order(bounds: &[Aabb]) -> (Vec<u32>, Vec<u32>) {
-    let centres: Vec<Point3> = bounds.iter().map(|b| b.center()).collect();
-    morton_sort(&centres)
+/// The indices of `centres` in Morton order, and their codes (see
+/// [`MeshDistance::new`]): 10 bits per axis of the centres' bounding box,
+/// interleaved; sorted by an LSD radix sort (stable: equal codes keep
+/// their index order).
+pub(crate) fn morton_sort(centres: &[Point3]) -> (Vec<u32>, Vec<u32>) {
+    morton_sort_by(centres.len(), |i| centres[i])
 }
 
-/// The indices of `points` in Morton order, and their codes (see
-/// [`morton_order`]).
-pub(crate) fn morton_sort(centres: &[Point3]) -> (Vec<u32>, Vec<u32>) {
-    let finite = || centres.iter().filter(|c| c.is_finite());
+/// [`morton_sort`] of the points `centre(0..n)` (each asked twice, never
+/// stored).
+fn morton_sort_by(n: usize, centre: impl Fn(usize) -> Point3) -> (Vec<u32>, Vec<u32>) {
     let inf = Real::INFINITY;
-    let lo = finite().fold(Vec3::new(inf, inf, inf), |a, c| a.min(*c));
-    let hi = finite().fold(Vec3::new(-inf, -inf, -inf), |a, c| a.max(*c));
+    let (mut lo, mut hi) = (Vec3::new(inf, inf, inf), Vec3::new(-inf, -inf, -inf));
+    for i in 0..n {
+        let c = centre(i);
+        if c.is_finite() {
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+    }
     let scale = |l: Real, h: Real| if h > l { 1023.0 / (h - l) } else { 0.0 };
     let s = Vec3::new(scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z));
     // Spreads the 10 low bits of x to every third bit.
@@ -654,10 +733,9 @@ pub(crate) fn morton_sort(centres: &[Point3]) -> (Vec<u32>, Vec<u32>) {
             0
         }
     };
-    let mut keyed: Vec<(u32, u32)> = centres
-        .iter()
-        .enumerate()
-        .map(|(i, c)| {
+    let mut keyed: Vec<(u32, u32)> = (0..n)
+        .map(|i| {
+            let c = centre(i);
             let code = (spread(q(c.x, lo.x, s.x)) << 2)
                 | (spread(q(c.y, lo.y, s.y)) << 1)
                 | spread(q(c.z, lo.z, s.z));
@@ -830,6 +908,55 @@ mod tests {
                 .any(|l| l.min.min(b.min) == l.min && l.max.max(b.max) == l.max));
         }
         assert!(!leaves.is_empty());
+    }
+
+    /// The single-precision node boxes hold the exact ones: outward
+    /// rounding gives the nearest `f32` on the right side.
+    #[test]
+    fn outward_rounding_brackets_the_value() {
+        for x in [
+            0.0,
+            0.1,
+            -0.1,
+            1.0,
+            1.0 + 1e-12,
+            -1.7e-3,
+            1e-42,
+            -1e-42,
+            3e38,
+            1e39,
+            -1e39,
+        ] {
+            let (lo, hi) = (f32_down(x), f32_up(x));
+            assert!((lo as Real) <= x && (hi as Real) >= x, "{x}");
+            // The nearest on its side: the next f32 up from `lo` passes x.
+            let next_up = |f: f32| {
+                if f == 0.0 {
+                    f32::from_bits(1)
+                } else if f > 0.0 {
+                    f32::from_bits(f.to_bits() + 1)
+                } else {
+                    f32::from_bits(f.to_bits() - 1)
+                }
+            };
+            assert!((next_up(lo) as Real) > x, "{x}");
+            assert_eq!(f32_up(x), -f32_down(-x));
+            if x == (x as f32) as Real {
+                assert_eq!((lo as Real, hi as Real), (x, x));
+            }
+        }
+        let m = sphere(12);
+        let bvh = MeshDistance::new(&m);
+        for n in &bvh.nodes {
+            let b = n.bounds();
+            if n.count > 0 {
+                let s = n.start as usize;
+                for &t in &bvh.order[s..s + n.count as usize] {
+                    let tb = tri_bounds(&m, t as usize);
+                    assert!(union(b, tb).min == b.min && union(b, tb).max == b.max);
+                }
+            }
+        }
     }
 
     #[test]

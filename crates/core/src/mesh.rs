@@ -90,7 +90,9 @@ pub(crate) fn grid_layout(
 /// `cell`, `dims`), clamped to the grid.
 pub(crate) fn grid_cell(p: Point3, origin: Point3, cell: Real, dims: [usize; 3]) -> [usize; 3] {
     let d = (p - origin) / cell;
-    let c = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+    // `v as usize` is `v.floor().max(0.0) as usize` for every `v` (the
+    // cast truncates, takes negatives and NaN to 0 and saturates).
+    let c = |v: Real, n: usize| (v as usize).min(n - 1);
     [c(d.x, dims[0]), c(d.y, dims[1]), c(d.z, dims[2])]
 }
 
@@ -265,6 +267,40 @@ impl From<Mesh> for PointCloud {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A cell index by a plain cast is the floor clamped at 0, for every
+    /// value (negatives, NaN, infinities, huge values).
+    #[test]
+    fn grid_cell_cast_is_the_clamped_floor() {
+        let old = |v: Real, n: usize| (v.floor().max(0.0) as usize).min(n - 1);
+        let values = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            -1.0,
+            -1.5,
+            1.0,
+            1.999_999_999,
+            2.0,
+            7.5,
+            1e300,
+            -1e300,
+            -1e-300,
+            5e-324,
+            1.8e19,
+            2e19,
+        ];
+        for v in values
+            .into_iter()
+            .chain([Real::INFINITY, Real::NEG_INFINITY, Real::NAN])
+        {
+            for n in [1, 3, 1 << 20, usize::MAX] {
+                let c = grid_cell(Vec3::new(v, v, v), Vec3::ZERO, 1.0, [n, n, n]);
+                assert_eq!(c, [old(v, n); 3], "{v} {n}");
+            }
+        }
+    }
     use crate::assert_near;
 
     fn unit_cube() -> Mesh {

@@ -260,7 +260,25 @@ pub fn best_phase_shift(reference: &SpaceCurve, curve: &SpaceCurve) -> Real {
     };
     let n = (16 * order).max(64);
     let step = TAU / n as Real;
-    let values: Vec<Real> = (0..n).map(|i| g(i as Real * step, 0)).collect();
+    // The samples: `g(φ_i, 0)` with each `sin_cos(j φ_i)` read from a
+    // table kept per `n` (the same numbers and sums; the sampling is most
+    // of the work, and a reconstruction aligns thousands of curve pairs
+    // of a few orders).
+    let values: Vec<Real> = match phase_table(n) {
+        Some(table) => (0..n)
+            .map(|i| {
+                let row = &table[i * (n / 16)..];
+                (1..=order)
+                    .map(|j| {
+                        let (s, co) = row[j - 1];
+                        let (a, b) = ab[j];
+                        a * co + b * s
+                    })
+                    .sum()
+            })
+            .collect(),
+        None => (0..n).map(|i| g(i as Real * step, 0)).collect(),
+    };
     let top = values.iter().copied().fold(Real::NEG_INFINITY, Real::max);
     // Among the sampled local maxima within 1 % of the oscillation's
     // amplitude of the best, take the one nearest φ = 0: a nearly symmetric
@@ -299,6 +317,37 @@ pub fn best_phase_shift(reference: &SpaceCurve, curve: &SpaceCurve) -> Real {
         phi -= TAU;
     }
     phi
+}
+
+/// `sin_cos(j · φ_i)` for the phase samples `φ_i = i · (2π / n)`, `i < n`,
+/// `j = 1..=n/16` (row `i` at `i · n/16`), computed as
+/// [`best_phase_shift`] computes them, once per `n` for the process
+/// (`None` past 2^18 entries: computed in place then).
+fn phase_table(n: usize) -> Option<std::sync::Arc<Vec<(Real, Real)>>> {
+    use std::collections::HashMap;
+    use std::sync::{Arc, Mutex, OnceLock};
+    type Tables = Mutex<HashMap<usize, Arc<Vec<(Real, Real)>>>>;
+    static TABLES: OnceLock<Tables> = OnceLock::new();
+    let per = n / 16;
+    if n.saturating_mul(per) > 1 << 18 {
+        return None;
+    }
+    let tables = TABLES.get_or_init(Tables::default);
+    // A poisoned lock only means another thread panicked while filling
+    // the map: the tables in it are whole.
+    let mut map = tables.lock().unwrap_or_else(|e| e.into_inner());
+    let table = map.entry(n).or_insert_with(|| {
+        let step = TAU / n as Real;
+        let rows = (0..n).flat_map(|i| {
+            let phi = i as Real * step;
+            (1..=per).map(move |j| {
+                let (s, co) = (j as Real * phi).sin_cos();
+                (s, co)
+            })
+        });
+        Arc::new(rows.collect())
+    });
+    Some(Arc::clone(table))
 }
 
 /// Splits `n` intervals into groups of at most `k - 1`, as evenly as possible:
@@ -800,6 +849,30 @@ mod tests {
                 assert!(p.distance(q) < 2e-3, "{skinning:?} {i}: {}", p.distance(q));
             }
         }
+    }
+
+    /// The cached phase samples are bit for bit the ones computed in
+    /// place, from any thread; tables too large are not kept.
+    #[test]
+    fn phase_table_is_the_direct_sin_cos() {
+        for n in [64, 80, 320] {
+            let step = TAU / n as Real;
+            let check = move || {
+                let t = phase_table(n).unwrap();
+                assert_eq!(t.len(), n * (n / 16));
+                for i in 0..n {
+                    for j in 1..=n / 16 {
+                        let direct = (j as Real * (i as Real * step)).sin_cos();
+                        let got = t[i * (n / 16) + j - 1];
+                        assert_eq!(got.0.to_bits(), direct.0.to_bits());
+                        assert_eq!(got.1.to_bits(), direct.1.to_bits());
+                    }
+                }
+            };
+            check();
+            std::thread::spawn(check).join().unwrap();
+        }
+        assert!(phase_table(1 << 12).is_none());
     }
 
     #[test]

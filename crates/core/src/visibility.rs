@@ -232,10 +232,7 @@ impl Visibility {
     pub fn hidden_all(&self, points: &[Point3]) -> Vec<bool> {
         let order = crate::distance::morton_sort(points).0;
         let blocks: Vec<&[u32]> = order.chunks(BLOCK).collect();
-        let cores = std::thread::available_parallelism()
-            .map_or(1, |c| c.get().min(8))
-            .min(blocks.len())
-            .max(1);
+        let cores = crate::distance::cores().min(blocks.len()).max(1);
         let run = |core: usize| {
             let (mut first, mut cache) = (0, Blockers::default());
             let mut out = Vec::new();

@@ -4,7 +4,10 @@
 //! virtual scan written once to the temporary directory): segmentation,
 //! sections, fits, refinement, skinning and the report's measurements.
 //! The budget is 0.5 s for each on a 2-core machine. The
-//! `segment` entries time the first step alone (from memory).
+//! `segment` entries time the first step alone and the `report` entries
+//! the last one (`measure`: the model's tessellation, its outer skin and
+//! the distances both ways; unlike inside `reconstruct` it also builds
+//! the input's distance structure), both from memory.
 //!
 //! `cargo bench -p trigbody-io --bench reconstruct`
 //! (`cargo run --release -p trigbody-io --example reconstruct_timing`
@@ -13,7 +16,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
-use trigbody_core::body::{reconstruct, ReconstructOptions};
+use trigbody_core::body::{measure, reconstruct, ReconstructOptions};
 use trigbody_core::scanner::{virtual_scan, ScannerOptions};
 use trigbody_core::segment::{segment, BodyGeometry, SegmentOptions};
 use trigbody_io::{
@@ -62,6 +65,19 @@ fn bench(c: &mut Criterion) {
     g.bench_function("segment virtual scan 200k", |b| {
         b.iter(|| segment(black_box(BodyGeometry::Cloud(&scan)), &so).expect("scan"))
     });
+    for (name, body) in [
+        ("report mesh", BodyGeometry::Mesh(&mesh)),
+        ("report virtual scan 200k", BodyGeometry::Cloud(&scan)),
+    ] {
+        let (model, first) = reconstruct(body, &opts).expect("reconstructed");
+        let seg = segment(body, &opts.segment).expect("segmented");
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                measure(black_box(body), &model, &seg, &opts, first.warnings.clone())
+                    .expect("measured")
+            })
+        });
+    }
     g.finish();
     let _ = std::fs::remove_file(&scan_path);
 }

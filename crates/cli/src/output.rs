@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 pub fn write_file(path: &Path, bytes: &[u8], inputs: &[&Path], force: bool) -> Result<()> {
     let shown = path.display();
     refuse_input(path, inputs)?;
-    if is_special(path) {
+    if trigbody_io::is_special_file(path) {
         return std::fs::OpenOptions::new()
             .write(true)
             .open(path)
@@ -71,12 +71,6 @@ pub fn write_file(path: &Path, bytes: &[u8], inputs: &[&Path], force: bool) -> R
     Ok(())
 }
 
-/// True when `path` exists and is neither a regular file nor a directory
-/// (a device, a FIFO, a socket).
-pub fn is_special(path: &Path) -> bool {
-    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
-}
-
 /// Exit 2 when `path` names one of `inputs` (for the writers of
 /// `trigbody-io`, which keep the rest of the policy themselves).
 pub fn refuse_input(path: &Path, inputs: &[&Path]) -> Result<()> {
@@ -112,14 +106,14 @@ mod tests {
     fn a_device_is_written_in_place_and_stays_a_device() {
         use std::os::unix::fs::FileTypeExt;
         let null = Path::new("/dev/null");
-        assert!(is_special(null));
+        assert!(trigbody_io::is_special_file(null));
         for force in [false, true] {
             write_file(null, b"model", &[], force).unwrap();
             let kind = std::fs::metadata(null).unwrap().file_type();
             assert!(kind.is_char_device(), "/dev/null was replaced");
         }
-        assert!(!is_special(Path::new("Cargo.toml")));
-        assert!(!is_special(Path::new(".")));
+        assert!(!trigbody_io::is_special_file(Path::new("Cargo.toml")));
+        assert!(!trigbody_io::is_special_file(Path::new(".")));
     }
 
     fn dir(name: &str) -> PathBuf {

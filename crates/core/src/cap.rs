@@ -93,6 +93,18 @@ fn is_unit(x: &Real) -> bool {
 pub const DEFAULT_DOME_HEIGHT: Real = 1.0;
 
 impl CapKind {
+    /// The numbers a model file stores for the cap (method.md §7): none for
+    /// an open or flat end; a dome's height, and its fullness and axis
+    /// when not the defaults (the fields a file leaves out otherwise).
+    pub fn design_parameters(&self) -> usize {
+        match self {
+            CapKind::Open | CapKind::Flat => 0,
+            CapKind::Dome { fullness, axis, .. } => {
+                1 + usize::from(!is_unit(fullness)) + usize::from(!axis.is_tangent())
+            }
+        }
+    }
+
     /// A dome of the default height.
     pub fn dome() -> CapKind {
         CapKind::Dome {
@@ -392,6 +404,21 @@ mod tests {
             dome_cap(&c, &t, 1.0, 0.0, DomeAxis::Tangent).map(|_| ()),
             Err(CapError::BadFullness(0.0))
         );
+    }
+
+    #[test]
+    fn a_cap_counts_the_numbers_its_file_stores() {
+        let dome = |fullness, axis| CapKind::Dome {
+            relative_height: 1.2,
+            fullness,
+            axis,
+        };
+        assert_eq!(CapKind::Open.design_parameters(), 0);
+        assert_eq!(CapKind::Flat.design_parameters(), 0);
+        assert_eq!(CapKind::dome().design_parameters(), 1);
+        assert_eq!(dome(1.5, DomeAxis::Tangent).design_parameters(), 2);
+        assert_eq!(dome(1.0, DomeAxis::Normal).design_parameters(), 2);
+        assert_eq!(dome(2.0, DomeAxis::Normal).design_parameters(), 3);
     }
 
     #[test]

@@ -821,7 +821,10 @@ fn girth_at(
         allow_non_planar: true,
         ..opts.fit
     };
-    let dense = resample(&outline.points, opts.fit_samples.max(outline.points.len()));
+    let dense = crate::section::resample_closed(
+        &outline.points,
+        opts.fit_samples.max(outline.points.len()),
+    );
     let fit = fit_loop(&dense, &fit_opts).map_err(|source| MeasureError::Fit {
         measurement: name,
         source,
@@ -878,7 +881,8 @@ fn slice_stack(slicer: &MeshSlicer<'_>, opts: &MeasureOptions) -> Result<SliceSt
                 .filter(|&(lj, o)| lj != li && l.points.first().is_some_and(|&p| o.contains(p)))
                 .count();
             let sign = if depth % 2 == 1 { -1.0 } else { 1.0 };
-            let dense = resample(&l.points, opts.fit_samples.max(l.points.len()));
+            let dense =
+                crate::section::resample_closed(&l.points, opts.fit_samples.max(l.points.len()));
             let fit = fit_loop(
                 &dense,
                 &FitOptions {
@@ -895,7 +899,7 @@ fn slice_stack(slicer: &MeshSlicer<'_>, opts: &MeasureOptions) -> Result<SliceSt
                 // band's triangles shear along the ring (+10 % area measured).
                 Ok(f) => {
                     let out = (
-                        resample(&f.curve.sample(4 * m), m),
+                        crate::section::resample_closed(&f.curve.sample(4 * m), m),
                         f.curve.area(),
                         f.curve.perimeter(),
                         f.curve.area_centroid().unwrap_or(l.centroid),
@@ -903,7 +907,12 @@ fn slice_stack(slicer: &MeshSlicer<'_>, opts: &MeasureOptions) -> Result<SliceSt
                     curves.push(f.curve);
                     out
                 }
-                Err(_) => (resample(&l.points, m), l.area, l.perimeter, l.centroid),
+                Err(_) => (
+                    crate::section::resample_closed(&l.points, m),
+                    l.area,
+                    l.perimeter,
+                    l.centroid,
+                ),
             };
             let reach = samples
                 .iter()
@@ -995,33 +1004,6 @@ fn slice_stack(slicer: &MeshSlicer<'_>, opts: &MeasureOptions) -> Result<SliceSt
         curves,
         spacing: dh,
     })
-}
-
-/// `m` points evenly spaced by arc length along a closed polygon.
-fn resample(points: &[Point3], m: usize) -> Vec<Point3> {
-    let n = points.len();
-    let total: Real = (0..n)
-        .map(|i| points[i].distance(points[(i + 1) % n]))
-        .sum();
-    if n == 0 || total <= 0.0 {
-        return points.to_vec();
-    }
-    let mut out = Vec::with_capacity(m);
-    let (mut i, mut acc) = (0usize, 0.0);
-    for k in 0..m {
-        let target = total * k as Real / m as Real;
-        while i < n {
-            let d = points[i].distance(points[(i + 1) % n]);
-            if acc + d >= target {
-                let u = if d > 0.0 { (target - acc) / d } else { 0.0 };
-                out.push(points[i] + (points[(i + 1) % n] - points[i]) * u);
-                break;
-            }
-            acc += d;
-            i += 1;
-        }
-    }
-    out
 }
 
 /// The area of the band of triangles between two closed sample rings of

@@ -217,6 +217,21 @@ impl SectionLoop {
             .collect()
     }
 
+    /// The loop's points with each edge's midpoint after its first point
+    /// (the closing edge's last): `2n` points in the loop's order, for a
+    /// fit to the polygon's edges as well as its corners.
+    pub fn with_edge_midpoints(&self) -> Vec<Point3> {
+        let n = self.points.len();
+        let mut out = Vec::with_capacity(2 * n);
+        for (i, &a) in self.points.iter().enumerate() {
+            out.push(a);
+            if n > 1 {
+                out.push((a + self.points[(i + 1) % n]) * 0.5);
+            }
+        }
+        out
+    }
+
     /// True when `p` (projected into the plane) lies inside the loop
     /// (even-odd rule).
     pub fn contains(&self, p: Point3) -> bool {
@@ -282,21 +297,31 @@ impl SectionLoop {
     }
 }
 
-impl SectionLoop {
-    /// The loop's points with each edge's midpoint after its first point
-    /// (the closing edge's last): `2n` points in the loop's order, for a
-    /// fit to the polygon's edges as well as its corners.
-    pub fn with_edge_midpoints(&self) -> Vec<Point3> {
-        let n = self.points.len();
-        let mut out = Vec::with_capacity(2 * n);
-        for (i, &a) in self.points.iter().enumerate() {
-            out.push(a);
-            if n > 1 {
-                out.push((a + self.points[(i + 1) % n]) * 0.5);
-            }
-        }
-        out
+/// `m` points evenly spaced by arc length along a closed polygon.
+pub fn resample_closed(points: &[Point3], m: usize) -> Vec<Point3> {
+    let n = points.len();
+    let total: Real = (0..n)
+        .map(|i| points[i].distance(points[(i + 1) % n]))
+        .sum();
+    if n == 0 || total <= 0.0 {
+        return points.to_vec();
     }
+    let mut out = Vec::with_capacity(m);
+    let (mut i, mut acc) = (0usize, 0.0);
+    for k in 0..m {
+        let target = total * k as Real / m as Real;
+        while i < n {
+            let d = points[i].distance(points[(i + 1) % n]);
+            if acc + d >= target {
+                let u = if d > 0.0 { (target - acc) / d } else { 0.0 };
+                out.push(points[i] + (points[(i + 1) % n] - points[i]) * u);
+                break;
+            }
+            acc += d;
+            i += 1;
+        }
+    }
+    out
 }
 
 /// Points strictly between `a` and `b`, about `step` apart.

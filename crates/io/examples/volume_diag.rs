@@ -94,28 +94,6 @@ fn closed_triangles(m: &Mesh, to_local: &impl Fn(Vec3) -> Vec3) -> (Vec<Tri>, us
     (out, loops)
 }
 
-/// `m` points evenly spaced by arc length along the closed polygon.
-fn resample(p: &[Vec3], m: usize) -> Vec<Vec3> {
-    let n = p.len();
-    let mut cum = vec![0.0];
-    for i in 0..n {
-        let l = cum[i] + (p[(i + 1) % n] - p[i]).norm();
-        cum.push(l);
-    }
-    let total = cum[n];
-    let mut out = Vec::with_capacity(m);
-    let mut j = 0;
-    for k in 0..m {
-        let t = total * k as Real / m as Real;
-        while cum[j + 1] < t {
-            j += 1;
-        }
-        let s = (t - cum[j]) / (cum[j + 1] - cum[j]).max(1e-300);
-        out.push(p[j] + (p[(j + 1) % n] - p[j]) * s);
-    }
-    out
-}
-
 fn volume(t: &[Tri]) -> Real {
     t.iter().map(|t| t[0].dot(t[1].cross(t[2]))).sum::<Real>() / 6.0
 }
@@ -474,7 +452,8 @@ fn run() -> Result<(), String> {
                     allow_non_planar: true,
                     ..FitOptions::default()
                 };
-                let dense = resample(&lp.points, 512.max(lp.points.len()));
+                let dense =
+                    trigbody_core::section::resample_closed(&lp.points, 512.max(lp.points.len()));
                 let carea = |c: &trigbody_core::TrigCurve| {
                     let sc = c.world_series();
                     let m = 2048;

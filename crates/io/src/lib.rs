@@ -220,6 +220,14 @@ pub fn write_point_cloud(
     write_path(path.as_ref(), GeometryRef::Points(cloud), options)
 }
 
+/// True when `path` exists and is neither a regular file nor a directory
+/// (a device such as `/dev/null` or `/dev/stdout`, a FIFO, a socket): a
+/// writer writes it in place, since a rename over it would put a regular
+/// file where the device was.
+pub fn is_special_file(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) -> Result<()> {
     let format = format_of(path)?;
     let csv = Format::is_csv(path);
@@ -234,7 +242,7 @@ fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) ->
     }
     // A device or FIFO (`/dev/null`, `/dev/stdout`) is written in place:
     // nothing is replaced, it cannot be synced, and it is never removed.
-    let special = std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir());
+    let special = is_special_file(path);
     let mut open = OpenOptions::new();
     open.write(true);
     if !special {

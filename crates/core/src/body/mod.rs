@@ -310,19 +310,10 @@ impl Body {
             .parts
             .iter()
             .map(|p| {
-                // A dome's height, and its fullness and axis when not the
-                // defaults.
-                let domes: usize = [p.part.options().start_cap, p.part.options().end_cap]
-                    .iter()
-                    .map(|c| match c {
-                        CapKind::Dome { fullness, axis, .. } => {
-                            1 + usize::from(*fullness != 1.0)
-                                + usize::from(*axis != crate::cap::DomeAxis::Tangent)
-                        }
-                        _ => 0,
-                    })
-                    .sum();
-                p.part.design_parameters() + domes
+                let o = p.part.options();
+                p.part.design_parameters()
+                    + o.start_cap.design_parameters()
+                    + o.end_cap.design_parameters()
             })
             .sum();
         parts

@@ -1,8 +1,9 @@
 //! Cutting, fitting, refining and skinning each part (pipeline steps 2-3).
 
 use super::*;
-use crate::cap::DomeAxis;
+use crate::cap::{dome_cap, Cap, DomeAxis};
 use crate::distance::parallel_map;
+use crate::part::Segment;
 
 /// One cut-and-fitted section.
 pub(super) struct Cut {
@@ -564,12 +565,16 @@ fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
 /// `u = (i + ½)/6`, `v = 2πj/32` of the cap's patch (`u = 0` the last
 /// section, `u = 1` the apex). `None` without a dome.
 fn dome_error(part: &Part, input: &InputDistance) -> Option<Real> {
-    let cap = part.end_cap()?;
+    Some(cap_error(part.end_cap()?, input))
+}
+
+/// [`dome_error`] of a cap.
+fn cap_error(cap: &Cap, input: &InputDistance) -> Real {
     let pts: Vec<Point3> = (0..6)
         .flat_map(|i| curve_points(&cap.patch.curve_at((i as Real + 0.5) / 6.0), 32))
         .collect();
     let d = input.distances(&pts);
-    Some((d.iter().map(|x| x * x).sum::<Real>() / d.len() as Real).sqrt())
+    (d.iter().map(|x| x * x).sum::<Real>() / d.len() as Real).sqrt()
 }
 
 /// A dome end that strays from the input (model → input RMS of its dome
@@ -687,8 +692,17 @@ fn shaped_end(
         return None;
     };
     let near = near_end(cuts, tip, points)?;
+    // One part (the caps do not change its patches), then each dome on
+    // its last curve and end tangent, as `Part::new` builds it.
     let from = cuts.len().saturating_sub(10);
     let curves: Vec<TrigCurve> = cuts[from..].iter().map(|c| c.fit.curve.clone()).collect();
+    let open = PartOptions {
+        start_cap: CapKind::Open,
+        end_cap: CapKind::Open,
+        ..*options
+    };
+    let part = Part::new(curves, &open).ok()?;
+    let (last, tangent) = (part.curves().last()?, part.end_tangent(false));
     let shapes: Vec<(Real, DomeAxis)> = [DomeAxis::Tangent, DomeAxis::Normal]
         .into_iter()
         .flat_map(|axis| {
@@ -700,18 +714,9 @@ fn shaped_end(
     let errors: Vec<Option<Real>> = parallel_map(&shapes, 1, |run| {
         run.iter()
             .map(|&(fullness, axis)| {
-                let o = PartOptions {
-                    start_cap: CapKind::Open,
-                    end_cap: CapKind::Dome {
-                        relative_height,
-                        fullness,
-                        axis,
-                    },
-                    ..*options
-                };
-                Part::new(curves.clone(), &o)
+                dome_cap(last, &tangent, relative_height, fullness, axis)
                     .ok()
-                    .and_then(|p| end_error(&p, input, &near))
+                    .map(|cap| cap_end_error(part.segments(), &cap, input, &near))
             })
             .collect()
     });
@@ -731,12 +736,15 @@ fn shaped_end(
 /// points of each of the part's last four patches and its dome (a
 /// shortened end that leaves the fingertips bare pays for it here).
 fn end_error(part: &Part, input: &InputDistance, near: &[Point3]) -> Option<Real> {
-    let out = dome_error(part, input)?;
+    Some(cap_end_error(part.segments(), part.end_cap()?, input, near))
+}
+
+/// [`end_error`] of a part's patches `segments` closed by `cap`.
+fn cap_end_error(segs: &[Segment], cap: &Cap, input: &InputDistance, near: &[Point3]) -> Real {
+    let out = cap_error(cap, input);
     if near.is_empty() {
-        return Some(out);
+        return out;
     }
-    let cap = part.end_cap()?;
-    let segs = part.segments();
     let patches = segs[segs.len().saturating_sub(4)..]
         .iter()
         .map(|s| &s.patch)
@@ -758,7 +766,7 @@ fn end_error(part: &Part, input: &InputDistance, near: &[Point3]) -> Option<Real
         })
         .sum();
     let inward = sum / near.len() as Real;
-    Some((0.5 * (out * out + inward)).sqrt())
+    (0.5 * (out * out + inward)).sqrt()
 }
 
 /// Distances to the input: its surface (mesh) or its nearest point (cloud).

@@ -37,7 +37,7 @@ pub struct ReconstructArgs {
     /// A body mesh (.obj, .ply, .stl) or scan (.ply points, .xyz); without
     /// it, the built-in body.
     pub input: Option<PathBuf>,
-    /// The model file to write (JSON, model format version 3).
+    /// The model file to write (JSON, model format version 4).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// A mesh of the model's surface: .glb (one node per part), .obj, .ply, .stl.

@@ -67,7 +67,7 @@ fn built_in_body_writes_model_mesh_and_report() {
     assert_eq!(report["input_vertices"], 13380);
     assert_eq!(report["parts"].as_array().unwrap().len(), 6);
     let model = std::fs::read_to_string(d.join("m.json")).unwrap();
-    assert!(model.contains("\"version\": 3") && model.contains("\"body\""));
+    assert!(model.contains("\"version\": 4") && model.contains("\"body\""));
     assert!(std::fs::metadata(d.join("m.glb")).unwrap().len() > 1000);
     // The model file is read back by `trigbody mesh`.
     trigbody()

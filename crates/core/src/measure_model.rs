@@ -83,9 +83,11 @@
 //!
 //! Parts and the transition bands between them (each closed the same way
 //! by its two boundary curves' cones, 6 Gauss points in `u`) are summed,
-//! then the overlap where an arm starts inside the torso's shoulder loops
-//! (there are no torso–arm transitions yet) is removed
-//! (see `arm_torso_overlap`): its volume by the arm's cross-section area
+//! then the overlaps are removed: where an arm ends on the torso's side
+//! through a transition, the torso's reach past the side plane, inside the
+//! transition (see `torso_beyond_side`); where an arm without one starts
+//! inside the torso's shoulder loops, the overlap (see
+//! `arm_torso_overlap`): its volume by the arm's cross-section area
 //! inside the torso, its surface by inside tests of the quadrature nodes.
 //! The outlines of those inside tests are 32-gons scaled to their curves'
 //! areas (an inscribed 32-gon is 0.6 % short, and the overlap lies along
@@ -1100,6 +1102,87 @@ fn arm_torso_overlap(
     (volume, area_arm + area_torso)
 }
 
+/// Where an arm ends on the torso's side through a transition
+/// ([`crate::transition::SideCut`]), the torso's loops reach past the side
+/// plane into the transition: that part of the torso's solid and skin is
+/// counted twice by the sums over parts. Its volume is `∫ A(z) dz` over
+/// the torso's horizontal curves between the lowest and highest points of
+/// the transition's curve on the torso (100 levels, midpoint rule),
+/// `A` the area of the curve's 64-gon (scaled to the curve's area) beyond
+/// the plane's line; its surface the torso's quadrature nodes beyond the
+/// plane. Returns `(volume, area)` to subtract. (The transition's own
+/// surface dips into the torso at the armpit over 0.1-0.2 % of the body's
+/// area, not subtracted.)
+fn torso_beyond_side(
+    torso: &Part,
+    side: &crate::transition::SideCut,
+    end: &SpaceCurve,
+    up: Vec3,
+    front: Vec3,
+    left: Vec3,
+) -> (Real, Real) {
+    let Some(n) = side.normal.normalized() else {
+        return (0.0, 0.0);
+    };
+    // Only between the levels of the transition's curve on the torso (the
+    // torso's hips may reach past the side plane too).
+    let levels: Vec<Real> = sample(end, 128).iter().map(|p| p.dot(up)).collect();
+    let lo = levels.iter().copied().fold(Real::INFINITY, Real::min);
+    let hi = levels.iter().copied().fold(Real::NEG_INFINITY, Real::max);
+    if !(hi > lo) {
+        return (0.0, 0.0);
+    }
+    let beyond = |p: Point3| {
+        let lv = p.dot(up);
+        (p - side.point).dot(n) > 0.0 && lv >= lo && lv <= hi
+    };
+    let n2 = Vec2::new(n.dot(front), n.dot(left));
+    let c = side.point.dot(front) * n2.x + side.point.dot(left) * n2.y;
+    let steps = 100;
+    let dz = (hi - lo) / steps as Real;
+    let mut volume = 0.0;
+    for k in 0..steps {
+        let lv = lo + (k as Real + 0.5) * dz;
+        let Some(s) = s_at_level(torso, up, lv) else {
+            continue;
+        };
+        let curve = curve_at(torso, s);
+        let pts = sample(&curve, 64);
+        if !pts.iter().any(|&p| beyond(p)) {
+            continue;
+        }
+        let outline = area_true_outline(&curve, &pts, Vec3::ZERO, front, left);
+        volume += clipped_area(&outline, n2, c) * dz;
+    }
+    let mut tables = Tables::default();
+    let area = area_where(torso, &mut tables, |_, _| true, beyond);
+    (volume, area)
+}
+
+/// The area of a closed polygon on the side `q·n > c` of a line
+/// (Sutherland–Hodgman against one half-plane, then the shoelace formula).
+fn clipped_area(poly: &[Vec2], n: Vec2, c: Real) -> Real {
+    let m = poly.len();
+    let mut kept: Vec<Vec2> = Vec::with_capacity(m + 2);
+    for i in 0..m {
+        let (a, b) = (poly[i], poly[(i + 1) % m]);
+        let (fa, fb) = (a.x * n.x + a.y * n.y - c, b.x * n.x + b.y * n.y - c);
+        if fa > 0.0 {
+            kept.push(a);
+        }
+        if (fa > 0.0) != (fb > 0.0) {
+            let w = fa / (fa - fb);
+            kept.push(Vec2::new(a.x + (b.x - a.x) * w, a.y + (b.y - a.y) * w));
+        }
+    }
+    let k = kept.len();
+    (0..k)
+        .map(|i| kept[i].x * kept[(i + 1) % k].y - kept[(i + 1) % k].x * kept[i].y)
+        .sum::<Real>()
+        .abs()
+        / 2.0
+}
+
 /// `∬ |t_v × t_u|` over the part's patches `[s0, s1]` with
 /// `use_segment(s0, s1)`, counting only nodes where `keep(point)`.
 fn area_where(
@@ -1203,7 +1286,26 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
             [PartName::LeftArm, PartName::RightArm]
                 .iter()
                 .filter_map(|&a| body.part(a))
-                .map(|a| arm_torso_overlap(torso, &a.part, up, front, body.frame.left, high - low))
+                .map(|a| {
+                    let side = body.transitions.iter().find_map(|t| {
+                        let side = t.transition.spec().side?;
+                        (t.from == a.name && t.to == PartName::Torso)
+                            .then(|| (side, t.transition.curves()[2]))
+                    });
+                    match side {
+                        Some((side, end)) => {
+                            torso_beyond_side(torso, &side, end, up, front, body.frame.left)
+                        }
+                        None => arm_torso_overlap(
+                            torso,
+                            &a.part,
+                            up,
+                            front,
+                            body.frame.left,
+                            high - low,
+                        ),
+                    }
+                })
                 .collect::<Vec<_>>()
         });
         let level = |p: Point3| p.dot(up);
@@ -1556,6 +1658,7 @@ mod tests {
             to_start: true,
             magnitudes: [gap, gap],
             seam: None,
+            side: None,
             order: 8,
         };
         let t = Transition::between(&a, &b, spec).unwrap();

@@ -63,6 +63,10 @@ pub enum TransitionError {
     SeamMisses(usize),
     #[error("the seam's normal has no direction")]
     BadSeam,
+    #[error("the side plane does not cut the part's surface in a closed curve around its point")]
+    SideCutMisses,
+    #[error("the side plane's normal has no direction")]
+    BadSideCut,
     #[error("the half-loop order must be between 1 and 64, got {0}")]
     BadOrder(usize),
     #[error(transparent)]
@@ -83,6 +87,19 @@ pub struct Seam {
     pub up: Vec3,
 }
 
+/// Cuts the `to` part's surface with a plane: the boundary on a part's
+/// side (an arm's transition ends on the torso's shoulder), see
+/// [`side_cut_loop`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SideCut {
+    /// A point of the plane inside the wanted curve (where the arm's axis
+    /// meets the plane).
+    pub point: Point3,
+    /// The plane's normal, pointing out of the `to` part towards the
+    /// `from` part.
+    pub normal: Vec3,
+}
+
 /// Everything that defines a transition besides the two parts.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TransitionSpec {
@@ -94,6 +111,11 @@ pub struct TransitionSpec {
     pub magnitudes: [Real; 2],
     /// Split the `to` end curve (a leg's half of the torso's bottom).
     pub seam: Option<Seam>,
+    /// End on the `to` part's side instead of an end of it: its surface
+    /// cut by a plane (an arm on the torso's shoulder); `to_start` is then
+    /// not used. Both tangents are then scaled by the local gap between
+    /// the boundary curves ([`gap_scaled`]).
+    pub side: Option<SideCut>,
     /// Fourier order of a seam half-loop and its tangents.
     pub order: usize,
 }
@@ -240,7 +262,20 @@ pub fn seam_half_loop(
         let p = leave + (enter - leave) * s + up * (4.0 * s * (1.0 - s) * dip);
         poly.push((p, axis));
     }
-    // Resample at equal chord length.
+    fit_closed(&poly, up, order, reference).ok_or(TransitionError::SeamMisses(0))
+}
+
+/// A closed polygon of points with tangents, resampled at equal chord
+/// length ([`HALF_LOOP_SAMPLES`]), oriented about `up` like `reference`,
+/// fitted by its discrete Fourier series of order `order` and
+/// phase-aligned to `reference`. `None` for a polygon of no length.
+fn fit_closed(
+    poly: &[(Point3, Vec3)],
+    up: Vec3,
+    order: usize,
+    reference: &SpaceCurve,
+) -> Option<(SpaceCurve, SpaceCurve)> {
+    let m = HALF_LOOP_SAMPLES;
     let n = poly.len();
     let mut acc = vec![0.0; n + 1];
     for k in 0..n {
@@ -248,7 +283,7 @@ pub fn seam_half_loop(
     }
     let total = acc[n];
     if !(total > 0.0) {
-        return Err(TransitionError::SeamMisses(0));
+        return None;
     }
     let mut rp = Vec::with_capacity(m);
     let mut rt = Vec::with_capacity(m);
@@ -274,7 +309,247 @@ pub fn seam_half_loop(
     let p = fit_space(&rp, order);
     let t = fit_space(&rt, order);
     let phi = best_phase_shift(reference, &p);
-    Ok((p.shifted(phi), t.shifted(phi)))
+    Some((p.shifted(phi), t.shifted(phi)))
+}
+
+/// Rows of the part's surface per unit of its parameter length, and
+/// samples around, for [`side_cut_loop`]'s contouring.
+const SIDE_ROWS: usize = 300;
+const SIDE_AROUND: usize = 128;
+
+/// The boundary on a part's side ([`SideCut`]): the part's surface
+/// `t(s, v)` cut by the plane `(x − q)·n = 0`, as the zero contour of
+/// `f(s, v) = (t(s, v) − q)·n` on a grid of [`SIDE_ROWS`] rows along the
+/// part (only the patches that come near the plane) by [`SIDE_AROUND`]
+/// columns (marching squares, periodic in `v`; a saddle cell is split by
+/// the sign of its mean). Of the closed contours, the smallest one whose
+/// projection on the plane encloses `q` is the curve. Its tangent field
+/// is the surface's direction across the curve, `τ = (t_s × t_v) × c'`
+/// (`c'` the contour's direction), unit, pointing into the part (against
+/// `n`): the transition leaves the part along its own surface (G1). Both
+/// are fitted like a seam's half-loop ([`fit_closed`]).
+pub fn side_cut_loop(
+    part: &Part,
+    cut: &SideCut,
+    order: usize,
+    reference: &SpaceCurve,
+) -> Result<(SpaceCurve, SpaceCurve), TransitionError> {
+    if !(1..=64).contains(&order) {
+        return Err(TransitionError::BadOrder(order));
+    }
+    let n = cut.normal.normalized().ok_or(TransitionError::BadSideCut)?;
+    if !cut.point.is_finite() {
+        return Err(TransitionError::BadSideCut);
+    }
+    let q = cut.point;
+    let segs = part.segments();
+    let total = part.length();
+    if segs.is_empty() || !(total > 0.0) {
+        return Err(TransitionError::SideCutMisses);
+    }
+    // Patches that come near the plane: an end curve within a hundredth of
+    // the part's length of it, or on its far side (a patch between two
+    // curves further off does not bulge across).
+    let reach = 0.01 * total;
+    let near =
+        |c: &SpaceCurve| (0..32).any(|i| (c.point(TAU * i as Real / 32.0) - q).dot(n) > -reach);
+    let close: Vec<usize> = (0..segs.len())
+        .filter(|&i| near(&segs[i].patch.curve_at(0.0)) || near(&segs[i].patch.curve_at(1.0)))
+        .collect();
+    let (Some(&first), Some(&last)) = (close.first(), close.last()) else {
+        return Err(TransitionError::SideCutMisses);
+    };
+    // Rows: (segment, u) with the points and f-values around.
+    let cols = SIDE_AROUND;
+    let mut rows: Vec<(usize, Real)> = Vec::new();
+    for (i, seg) in segs.iter().enumerate().take(last + 1).skip(first) {
+        let k = ((seg.length() / total * SIDE_ROWS as Real).ceil() as usize).max(1);
+        let from = if i == first { 0 } else { 1 };
+        for j in from..=k {
+            rows.push((i, j as Real / k as Real));
+        }
+    }
+    // cos(k v_j), sin(k v_j) once for every column, then each row's points
+    // as sums over its coefficients.
+    let top = segs[first..=last]
+        .iter()
+        .map(|s| s.patch.order())
+        .max()
+        .unwrap_or(0);
+    let mut cos = vec![0.0; cols * (top + 1)];
+    let mut sin = vec![0.0; cols * (top + 1)];
+    for j in 0..cols {
+        let v = TAU * j as Real / cols as Real;
+        let o = j * (top + 1);
+        crate::series::harmonics(v, top, &mut cos[o..o + top + 1], &mut sin[o..o + top + 1]);
+    }
+    let eval = |c: &[Real], o: usize| {
+        let mut acc = c.first().copied().unwrap_or(0.0);
+        for k in 1..=((c.len() - 1) / 2).min(top) {
+            acc += c[2 * k - 1] * cos[o + k] + c[2 * k] * sin[o + k];
+        }
+        acc
+    };
+    let mut pts: Vec<Point3> = Vec::with_capacity(rows.len() * cols);
+    for &(i, u) in &rows {
+        let c = segs[i].patch.curve_at(u);
+        pts.extend((0..cols).map(|j| {
+            let o = j * (top + 1);
+            Vec3::new(eval(&c.x.c, o), eval(&c.y.c, o), eval(&c.z.c, o))
+        }));
+    }
+    let f: Vec<Real> = pts.iter().map(|p| (*p - q).dot(n)).collect();
+    let at = |r: usize, j: usize| r * cols + j % cols;
+    // Edge ids: 2 (r cols + j) for the edge (r, j)-(r, j+1), +1 for
+    // (r, j)-(r+1, j). A crossing: its point and its grid parameters.
+    let crossing = |a: usize, b: usize| -> Option<(Point3, Real)> {
+        let (fa, fb) = (f[a], f[b]);
+        ((fa > 0.0) != (fb > 0.0)).then(|| {
+            let w = fa / (fa - fb);
+            (pts[a] + (pts[b] - pts[a]) * w, w)
+        })
+    };
+    let mut links: std::collections::HashMap<usize, Vec<usize>> = Default::default();
+    let mut points: std::collections::HashMap<usize, (Point3, Real, Real)> = Default::default();
+    for r in 0..rows.len().saturating_sub(1) {
+        for j in 0..cols {
+            // Corners c0 (r, j), c1 (r, j+1), c2 (r+1, j+1), c3 (r+1, j).
+            let c = [at(r, j), at(r, j + 1), at(r + 1, j + 1), at(r + 1, j)];
+            let edges = [
+                (2 * at(r, j), c[0], c[1]),
+                (2 * at(r, j + 1) + 1, c[1], c[2]),
+                (2 * at(r + 1, j), c[3], c[2]),
+                (2 * at(r, j) + 1, c[0], c[3]),
+            ];
+            let mut hit: Vec<usize> = Vec::with_capacity(4);
+            for (k, &(id, a, b)) in edges.iter().enumerate() {
+                if let Some((p, w)) = crossing(a, b) {
+                    // Grid parameters of the crossing: row and column.
+                    let (rr, jj) = match k {
+                        0 => (r as Real, j as Real + w),
+                        1 => (r as Real + w, (j + 1) as Real),
+                        2 => ((r + 1) as Real, j as Real + w),
+                        _ => (r as Real + w, j as Real),
+                    };
+                    points.insert(id, (p, rr, jj));
+                    hit.push(id);
+                }
+            }
+            let pairs: Vec<(usize, usize)> = match hit.len() {
+                2 => vec![(hit[0], hit[1])],
+                4 => {
+                    let mean = c.iter().map(|&i| f[i]).sum::<Real>() / 4.0;
+                    if (mean > 0.0) == (f[c[0]] > 0.0) {
+                        vec![(hit[0], hit[1]), (hit[2], hit[3])]
+                    } else {
+                        vec![(hit[0], hit[3]), (hit[1], hit[2])]
+                    }
+                }
+                _ => Vec::new(),
+            };
+            for (a, b) in pairs {
+                links.entry(a).or_default().push(b);
+                links.entry(b).or_default().push(a);
+            }
+        }
+    }
+    // Chain the links into closed contours.
+    let e1 = n.any_perpendicular();
+    let e2 = n.cross(e1);
+    let flat = |p: Point3| crate::math::Vec2::new((p - q).dot(e1), (p - q).dot(e2));
+    let mut seen: std::collections::HashSet<usize> = Default::default();
+    let mut best: Option<(Real, Vec<usize>)> = None;
+    let mut starts: Vec<usize> = links.keys().copied().collect();
+    starts.sort_unstable();
+    for start in starts {
+        if seen.contains(&start) {
+            continue;
+        }
+        let mut chain = vec![start];
+        seen.insert(start);
+        let mut prev = usize::MAX;
+        let mut cur = start;
+        let closed = loop {
+            let next = links[&cur]
+                .iter()
+                .copied()
+                .find(|&x| x != prev && !seen.contains(&x));
+            match next {
+                Some(x) => {
+                    seen.insert(x);
+                    chain.push(x);
+                    prev = cur;
+                    cur = x;
+                }
+                None => {
+                    break links[&cur].len() == 2 && links[&cur].contains(&start) && chain.len() > 2
+                }
+            }
+        };
+        if !closed {
+            continue;
+        }
+        let poly: Vec<crate::math::Vec2> = chain.iter().map(|id| flat(points[id].0)).collect();
+        if !crate::section::point_in_polygon(crate::math::Vec2::new(0.0, 0.0), &poly) {
+            continue;
+        }
+        let area = crate::fit::signed_area(&poly).abs();
+        if best.as_ref().is_none_or(|(a, _)| area < *a) {
+            best = Some((area, chain));
+        }
+    }
+    let (_, chain) = best.ok_or(TransitionError::SideCutMisses)?;
+    // Tangents across the curve, from the surface's derivatives there.
+    let len = chain.len();
+    let poly: Vec<(Point3, Vec3)> = (0..len)
+        .map(|k| {
+            let (p, rr, jj) = points[&chain[k]];
+            let r0 = (rr.floor() as usize).min(rows.len() - 1);
+            let r1 = (r0 + 1).min(rows.len() - 1);
+            let w = rr - r0 as Real;
+            let (i0, u0) = rows[r0];
+            let (i1, u1) = rows[r1];
+            let (i, u) = if i0 == i1 {
+                (i0, u0 + (u1 - u0) * w)
+            } else if w < 0.5 {
+                (i0, u0)
+            } else {
+                (i1, u1)
+            };
+            let v = TAU * jj / cols as Real;
+            let du = segs[i].patch.derivative(u, v, 1, 0);
+            let dv = segs[i].patch.derivative(u, v, 0, 1);
+            let along = points[&chain[(k + 1) % len]].0 - points[&chain[(k + len - 1) % len]].0;
+            let t = du
+                .cross(dv)
+                .cross(along)
+                .normalized()
+                .map(|t| if t.dot(n) > 0.0 { -t } else { t })
+                .unwrap_or(-n);
+            (p, t)
+        })
+        .collect();
+    fit_closed(&poly, n, order, reference).ok_or(TransitionError::SideCutMisses)
+}
+
+/// A tangent field rescaled to the local gap between the boundary curves:
+/// `τ(v) |p₁(v) − p₀(v)| / (|τ(v)| d)`, `d` the distance between their
+/// centres, fitted at `order` (equally spaced samples, exact least
+/// squares). A side transition's gap runs from nothing at the armpit to
+/// a hand's breadth over the shoulder: magnitudes `λ d` of the plain
+/// tangents (as long over the armpit as over the shoulder) looped there.
+pub fn gap_scaled(t: &SpaceCurve, p0: &SpaceCurve, p1: &SpaceCurve, order: usize) -> SpaceCurve {
+    let d = centre(p0).distance(centre(p1)).max(Real::MIN_POSITIVE);
+    let m = HALF_LOOP_SAMPLES;
+    let scaled: Vec<Point3> = (0..m)
+        .map(|i| {
+            let v = TAU * i as Real / m as Real;
+            let g = p1.point(v).distance(p0.point(v));
+            let tv = t.point(v);
+            tv.normalized().map_or(Vec3::ZERO, |u| u * (g / d))
+        })
+        .collect();
+    fit_space(&scaled, order)
 }
 
 impl Transition {
@@ -310,6 +585,12 @@ impl Transition {
         spec: &TransitionSpec,
     ) -> Result<[SpaceCurve; 4], TransitionError> {
         let (p0, t0) = part_end(from, spec.from_start, true);
+        if let Some(side) = &spec.side {
+            let (p1, t1) = side_cut_loop(to, side, spec.order, &p0)?;
+            let t0 = gap_scaled(&t0, &p0, &p1, spec.order);
+            let t1 = gap_scaled(&t1, &p0, &p1, spec.order);
+            return Ok([p0, t0, p1, t1]);
+        }
         // Into `to`: against its outward end tangent.
         let (c1, t1) = part_end(to, spec.to_start, false);
         let (p1, t1) = match &spec.seam {
@@ -345,9 +626,11 @@ impl Transition {
         [&self.p0, &self.t0, &self.p1, &self.t1]
     }
     /// Design parameters: the two magnitudes, plus 6 for a seam (point and
-    /// normal; its `up` is the body's frame, not counted).
+    /// normal; its `up` is the body's frame, not counted) or a side cut
+    /// (point and normal).
     pub fn design_parameters(&self) -> usize {
         2 + if self.spec.seam.is_some() { 6 } else { 0 }
+            + if self.spec.side.is_some() { 6 } else { 0 }
     }
 
     /// A grid mesh of the surface: `around` samples in `v`, `along`
@@ -558,6 +841,7 @@ mod tests {
             to_start: true,
             magnitudes: [m0, m1],
             seam: None,
+            side: None,
             order: 8,
         }
     }
@@ -778,5 +1062,92 @@ mod tests {
             ..seam(1.0)
         };
         assert!(seam_half_loop(&c, &tangent, &away, 12, &leg(0.1)).is_err());
+    }
+
+    /// A cylinder (radius 0.5 along z) cut across its axis at z = 1.3: the
+    /// side curve is the circle there, running the way the reference runs
+    /// about the plane's normal, and the tangent across it is the axis
+    /// direction into the part (against the normal). A plane past the
+    /// part, or a point outside the curve, finds no side curve.
+    #[test]
+    fn a_side_cut_across_a_cylinder_is_its_circle() {
+        let part = cylinder(0.0, 3.0, 0.5);
+        let reference = circle(5.0, 0.4).world_series();
+        let z = Vec3::new(0.0, 0.0, 1.0);
+        let cut = SideCut {
+            point: Point3::new(0.1, -0.05, 1.3),
+            normal: z,
+        };
+        let (p, t) = side_cut_loop(&part, &cut, 8, &reference).unwrap();
+        let turn = |c: &SpaceCurve| {
+            (0..64)
+                .map(|i| {
+                    let v = TAU * i as Real / 64.0;
+                    (c.point(v) - centre(c)).cross(c.derivative(v, 1)).dot(z)
+                })
+                .sum::<Real>()
+        };
+        assert!(turn(&p) > 0.0 && turn(&reference) > 0.0);
+        for i in 0..64 {
+            let v = TAU * i as Real / 64.0;
+            let q = p.point(v);
+            assert!((q.z - 1.3).abs() < 1e-9, "{q:?}");
+            // The contour's polygon has 128 corners on the circle: its
+            // chords sag by r (1 − cos(π/128)) = 1.5e-4.
+            let r = (q.x * q.x + q.y * q.y).sqrt();
+            assert!((r - 0.5).abs() < 2e-4, "{r}");
+            assert!((t.point(v) + z).norm() < 1e-9, "{:?}", t.point(v));
+        }
+        for miss in [
+            SideCut {
+                point: Point3::new(0.0, 0.0, 4.0),
+                normal: z,
+            },
+            SideCut {
+                point: Point3::new(2.0, 0.0, 1.3),
+                normal: z,
+            },
+        ] {
+            assert_eq!(
+                side_cut_loop(&part, &miss, 8, &reference).unwrap_err(),
+                TransitionError::SideCutMisses
+            );
+        }
+        let flat = SideCut {
+            point: cut.point,
+            normal: Vec3::ZERO,
+        };
+        assert_eq!(
+            side_cut_loop(&part, &flat, 8, &reference).unwrap_err(),
+            TransitionError::BadSideCut
+        );
+    }
+
+    /// Two unit circles 2 apart: the gap equals the centres' distance
+    /// everywhere, so a constant tangent comes out as its unit vector.
+    #[test]
+    fn gap_scaled_tangents_follow_the_local_gap() {
+        let p0 = circle(0.0, 1.0).world_series();
+        let p1 = circle(2.0, 1.0).world_series();
+        let t = SpaceCurve {
+            x: Series { c: vec![0.0] },
+            y: Series { c: vec![0.0] },
+            z: Series { c: vec![3.0] },
+        };
+        let g = gap_scaled(&t, &p0, &p1, 4);
+        for i in 0..16 {
+            let v = TAU * i as Real / 16.0;
+            assert!((g.point(v) - Vec3::new(0.0, 0.0, 1.0)).norm() < 1e-12);
+        }
+        // A circle of radius 2 at the far end: the gap grows where the
+        // curves part (√(4 + 1) at v where both radii point the same way).
+        let wide = circle(2.0, 2.0).world_series();
+        let g = gap_scaled(&t, &p0, &wide, 8);
+        let gap = p0.point(0.0).distance(wide.point(0.0));
+        assert!(
+            (g.point(0.0).z - gap / 2.0).abs() < 1e-9,
+            "{:?}",
+            g.point(0.0)
+        );
     }
 }

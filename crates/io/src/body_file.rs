@@ -1,4 +1,4 @@
-//! A reconstructed [`Body`] as a model file (version 3) and its [`Report`]
+//! A reconstructed [`Body`] as a model file (version 4) and its [`Report`]
 //! as JSON.
 
 use crate::model::{Model, ModelBody, ModelPart, ModelTransition};

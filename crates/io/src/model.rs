@@ -4,7 +4,7 @@
 //! ```json
 //! {
 //!   "format": "trigbody-model",
-//!   "version": 3,
+//!   "version": 4,
 //!   "units": "m",
 //!   "body": { "frame": { "up": [0, 1, 0], "front": [0, 0, 1],
 //!                        "left": [1, 0, 0], "origin": [0, -0.82, 0] },
@@ -44,7 +44,7 @@ use serde_json::Value;
 use std::io::{Read, Write};
 use thiserror::Error;
 use trigbody_core::tessellate::TessellateError;
-use trigbody_core::transition::{Seam, Transition, TransitionError, TransitionSpec};
+use trigbody_core::transition::{Seam, SideCut, Transition, TransitionError, TransitionSpec};
 use trigbody_core::{
     tessellate_part, CapKind, Frame, Mesh, Part, PartError, PartOptions, Skinning,
     TessellationOptions, TrigCurve, Vec3,
@@ -52,13 +52,16 @@ use trigbody_core::{
 
 /// The `format` field of every model file.
 pub const MODEL_FORMAT: &str = "trigbody-model";
-/// The model file version this build writes (it reads 1 to 3).
+/// The model file version this build writes (it reads 1 to 4).
 /// Version 2 adds the optional `body` object (the body's frame and height)
 /// and the `transitions` list; a version-1 file reads as a model without
 /// them. Version 3 adds a dome cap's optional `fullness` and `axis`: a
 /// version-2 reader, which ignores fields it does not know, would build
-/// another dome, so it must refuse the file.
-pub const MODEL_VERSION: u64 = 3;
+/// another dome, so it must refuse the file. Version 4 adds a
+/// transition's optional `side` (an arm's transition ending on the
+/// torso's shoulder): a version-3 reader would end it on the torso's end
+/// curve instead.
+pub const MODEL_VERSION: u64 = 4;
 
 /// A named part of a model.
 #[derive(Clone, Debug, PartialEq)]
@@ -678,6 +681,12 @@ struct SeamRecord {
 }
 
 #[derive(Serialize, Deserialize)]
+struct SideRecord {
+    point: [f64; 3],
+    normal: [f64; 3],
+}
+
+#[derive(Serialize, Deserialize)]
 struct TransitionRecord {
     from: String,
     from_end: EndRecord,
@@ -686,6 +695,8 @@ struct TransitionRecord {
     magnitudes: [f64; 2],
     #[serde(default, skip_serializing_if = "Option::is_none")]
     seam: Option<SeamRecord>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    side: Option<SideRecord>,
     #[serde(default = "default_order")]
     order: usize,
 }
@@ -718,7 +729,7 @@ fn read_transition(
         } else {
             Err(ModelError::Structure {
                 context: format!("transition {index}"),
-                message: format!("seam vector {x:?} is not finite"),
+                message: format!("seam or side vector {x:?} is not finite"),
             })
         }
     };
@@ -730,11 +741,19 @@ fn read_transition(
         }),
         None => None,
     };
+    let side = match &r.side {
+        Some(c) => Some(SideCut {
+            point: fin(c.point)?,
+            normal: fin(c.normal)?,
+        }),
+        None => None,
+    };
     let spec = TransitionSpec {
         from_start: matches!(r.from_end, EndRecord::Start),
         to_start: matches!(r.to_end, EndRecord::Start),
         magnitudes: r.magnitudes,
         seam,
+        side,
         order: r.order,
     };
     let transition =
@@ -770,6 +789,10 @@ fn transition_record(t: &ModelTransition) -> TransitionRecord {
             point: m.point.to_array(),
             normal: m.normal.to_array(),
             up: m.up.to_array(),
+        }),
+        side: s.side.map(|c| SideRecord {
+            point: c.point.to_array(),
+            normal: c.normal.to_array(),
         }),
         order: s.order,
     }

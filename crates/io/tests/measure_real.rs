@@ -130,10 +130,10 @@ fn measurements_do_not_depend_on_placement_or_vertex_order() {
 /// mesh in the same planes (`compare_with_mesh`: convex-hull perimeter of the
 /// mesh loop around the plane's origin), on every body in
 /// `../shared/data/bodies`: girths within 4 mm, volume within 1 %, surface
-/// area within 2 % (volumes +0.71 / +0.82 / +0.77 % on the base, male and
-/// female meshes since the sections are fitted to their polygons' edge
-/// midpoints too; about 0.5 % of each is the mesh's mouth cavity, which one
-/// curve per section fills: docs/measure.md).
+/// area within 2 % (volumes +0.68 / +0.81 / +0.73 %, areas −1.34 / −1.40 /
+/// −0.89 % on the base, male and female meshes with the arms' side
+/// transitions; about 0.5 % of each volume is the mesh's mouth cavity,
+/// which one curve per section fills: docs/measure.md).
 #[test]
 fn model_girths_volume_and_area_agree_with_the_input_mesh() {
     use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};

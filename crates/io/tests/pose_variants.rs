@@ -154,6 +154,23 @@ fn check(name: &str, body: &Body, r: &Report, lim: &Limits) {
         "{name}: {}",
         r.parameter_ratio()
     );
+    // An arm joins the torso through a side transition, or it has none and
+    // the torso reaches into it; a side transition that was tried and left
+    // out says so.
+    for arm in [PartName::LeftArm, PartName::RightArm] {
+        let side = body
+            .transitions
+            .iter()
+            .filter(|t| t.from == arm)
+            .map(|t| t.transition.spec().side.is_some())
+            .collect::<Vec<_>>();
+        assert!(side == [true] || side.is_empty(), "{name}: {arm}: {side:?}");
+        let left_out = r
+            .warnings
+            .iter()
+            .any(|w| w.starts_with(&format!("{arm}: the shoulder transition was left out")));
+        assert!(!(left_out && !side.is_empty()), "{name}: {arm}");
+    }
 }
 
 #[test]
@@ -204,5 +221,34 @@ fn re_posed_and_re_shaped_bodies_reconstruct() {
         let scan = virtual_scan(m, &ScannerOptions::default()).expect("scans");
         let (body, r) = reconstruct(BodyGeometry::Cloud(&scan.cloud), &opts).expect(name);
         check(&format!("{name}, scan"), &body, &r, scan_lim);
+        let arm_transitions = body
+            .transitions
+            .iter()
+            .filter(|t| matches!(t.from, PartName::LeftArm | PartName::RightArm))
+            .count();
+        println!(
+            "    arm transitions: {arm_transitions}; {:?}",
+            r.warnings
+                .iter()
+                .filter(|w| w.contains("shoulder"))
+                .collect::<Vec<_>>()
+        );
+        if name.starts_with("legs") {
+            // Measured: the legs-spread scan's arms' first sections are
+            // poor (order 32) and their side transitions strayed 8.4 and
+            // 10.0 mm RMS from the scan (limit 5.1 mm): both are left out
+            // and the torso is cut again to reach into the arms.
+            assert_eq!(arm_transitions, 0, "{name}: {:?}", r.warnings);
+            for arm in ["left arm", "right arm"] {
+                assert!(
+                    r.warnings
+                        .iter()
+                        .any(|w| w
+                            .starts_with(&format!("{arm}: the shoulder transition was left out"))),
+                    "{name}: {:?}",
+                    r.warnings
+                );
+            }
+        }
     }
 }

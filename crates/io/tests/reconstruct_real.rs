@@ -65,6 +65,48 @@ fn check_parts(name: &str, body: &Body, r: &Report) {
             r.warnings
         );
     }
+    // Both arms join the torso's shoulder through a side transition: it
+    // starts on the arm's first curve exactly and ends on the torso's
+    // surface (its curve there lies on the torso's tessellation).
+    let torso = body.part(PartName::Torso).expect("a torso");
+    let skin = trigbody_core::tessellate_part(
+        &torso.part,
+        &TessellationOptions {
+            target_edge: Some(0.002 * body.height),
+            ..TessellationOptions::default()
+        },
+    )
+    .unwrap();
+    let on_torso = MeshDistance::new(&skin);
+    for arm in [PartName::LeftArm, PartName::RightArm] {
+        let t = body
+            .transitions
+            .iter()
+            .find(|t| t.from == arm && t.to == PartName::Torso)
+            .unwrap_or_else(|| panic!("{name}: {arm} has no transition: {:?}", r.warnings));
+        assert!(t.transition.spec().side.is_some(), "{name}: {arm}");
+        let first = body.part(arm).unwrap().part.curves()[0].world_series();
+        let patch = t.transition.patch();
+        let vs: Vec<f64> = (0..64)
+            .map(|i| std::f64::consts::TAU * i as f64 / 64.0)
+            .collect();
+        for &v in &vs {
+            assert!(
+                patch.point(0.0, v).distance(first.point(v)) < 1e-9,
+                "{name}: {arm} at v = {v}"
+            );
+        }
+        let ends: Vec<Vec3> = vs.iter().map(|&v| patch.point(1.0, v)).collect();
+        let off = on_torso.distances(&ends).into_iter().fold(0.0, f64::max);
+        println!(
+            "    {arm}: transition end {:.2} mm off the torso",
+            off * 1000.0
+        );
+        // Measured 0.08-0.10 mm on the meshes, 0.10-0.60 mm on the scans
+        // (the curve is the contour fitted at order 32; the torso's
+        // tessellation's chords sag by about 0.03 mm).
+        assert!(off < 0.001, "{name}: {arm}: {off}");
+    }
 }
 
 #[test]
@@ -211,9 +253,10 @@ fn rotated_moved_and_centimetre_bodies_give_the_same_model() {
 }
 
 /// The report measures the model's outer skin (crate `skin`): on the
-/// built-in body, the torso's skin inside the arms (and the arms' start
-/// inside the torso) is left out, a small share of the whole, and no input
-/// sample moves farther from the model than that trimming can explain.
+/// built-in body, the torso's skin inside the arms' transitions (and their
+/// ends inside the torso) is left out, a small share of the whole, and no
+/// input sample moves farther from the model than that trimming can
+/// explain.
 #[test]
 fn the_report_measures_the_outer_skin() {
     let path =
@@ -231,7 +274,7 @@ fn the_report_measures_the_outer_skin() {
     let tree = MeshDistance::new(&surface);
     let skin = outer_triangles(&tree, &ranges, opts.skin_depth * h);
     assert_eq!(skin.unclosed, 0);
-    // Less than the pieces' sum (measured 1.9 % less); the report's share
+    // Less than the pieces' sum (measured 1.7 % less); the report's share
     // is the same.
     let area = surface.surface_area();
     let share = skin.dropped_area / area;
@@ -243,16 +286,19 @@ fn the_report_measures_the_outer_skin() {
     );
     let skin_mesh = skin.mesh(&surface);
     assert!((skin_mesh.surface_area() - (area - skin.dropped_area)).abs() < 1e-9 * area);
-    // Interior triangles are torso and arm ones (the pieces' order: torso,
-    // head, arms, legs, then the transitions).
+    // Interior triangles are the torso's (its loops reach past the side
+    // planes, into the arms' transitions) and the arms' transitions' (where
+    // they meet the torso at the armpit); the pieces' order: torso, head,
+    // arms, legs, then the transitions (legs', then arms'). Measured: 2 985
+    // of the torso's, 50 and 51 of the arm transitions'.
     let names: Vec<PartName> = body.parts.iter().map(|p| p.name).collect();
+    let arms = [PartName::LeftArm, PartName::RightArm];
     for (k, range) in ranges.iter().enumerate() {
         let dropped = range.clone().filter(|&t| !skin.outer[t]).count();
-        let expected = k < names.len()
-            && matches!(
-                names[k],
-                PartName::Torso | PartName::LeftArm | PartName::RightArm
-            );
+        let expected = match names.get(k) {
+            Some(&name) => name == PartName::Torso,
+            None => arms.contains(&body.transitions[k - names.len()].from),
+        };
         assert_eq!(dropped > 0, expected, "piece {k}: {dropped}");
     }
     // An input sample outside the model is no farther from the skin than

@@ -72,7 +72,7 @@ use crate::segment::{
     SegmentOptions, Segmentation,
 };
 use crate::tessellate::{tessellate_part, TessellateError, TessellationOptions};
-use crate::transition::{fit_magnitudes, Seam, Transition, TransitionSpec};
+use crate::transition::{fit_magnitudes, Seam, SideCut, Transition, TransitionSpec};
 use std::fmt;
 use thiserror::Error;
 
@@ -517,6 +517,32 @@ fn reconstruct_steps(
         BodyGeometry::Cloud(_) => 1.5,
     } * seg.slice_spacing;
     let cutter = Cutter::new(body, &seg);
+    // The torso's sections, its loops above the armpits clipped as
+    // `shoulders` says (see [`Shoulders`]).
+    let torso_plan = |shoulders: Shoulders, warnings: &mut Vec<String>| {
+        let axis = seg.part(PartName::Torso)?;
+        let step = opts.spacing * h / axis.length();
+        Some(Plan {
+            name: PartName::Torso,
+            cuts: cut_all(
+                &cutter,
+                PartName::Torso,
+                &fractions(
+                    fraction_at_level(axis, up, crotch_level + margin, true),
+                    1.0,
+                    step,
+                ),
+                opts,
+                shoulders,
+                warnings,
+            ),
+            start_cap: CapKind::Open,
+            end_cap: CapKind::Open,
+            tip: None,
+            shoulders,
+        })
+    };
+    let mut shoulders = Shoulders::of(&seg);
     let mut plans = Vec::new();
     // Every part but the feet, which the legs cover (shoe ends).
     let feet = [PartName::LeftFoot, PartName::RightFoot];
@@ -533,22 +559,9 @@ fn reconstruct_steps(
         }
         let step = opts.spacing * h / len;
         let plan = match name {
-            PartName::Torso => Plan {
-                name,
-                cuts: cut_all(
-                    &cutter,
-                    name,
-                    &fractions(
-                        fraction_at_level(axis, up, crotch_level + margin, true),
-                        1.0,
-                        step,
-                    ),
-                    opts,
-                    &mut warnings,
-                ),
-                start_cap: CapKind::Open,
-                end_cap: CapKind::Open,
-                tip: None,
+            PartName::Torso => match torso_plan(shoulders, &mut warnings) {
+                Some(plan) => plan,
+                None => continue,
             },
             PartName::Head => Plan {
                 name,
@@ -556,6 +569,7 @@ fn reconstruct_steps(
                 start_cap: CapKind::Open,
                 end_cap: CapKind::dome(),
                 tip: axis.points.last().copied(),
+                shoulders: Shoulders::default(),
             },
             PartName::LeftArm | PartName::RightArm => {
                 let wrist_kind = if name == PartName::LeftArm {
@@ -572,6 +586,7 @@ fn reconstruct_steps(
                     name,
                     &fractions(0.0, wrist, step),
                     opts,
+                    Shoulders::default(),
                     &mut warnings,
                 );
                 cuts.pop(); // the wrist itself starts the hand's run
@@ -590,6 +605,7 @@ fn reconstruct_steps(
                     start_cap: CapKind::Open,
                     end_cap: CapKind::dome(),
                     tip: axis.points.last().copied(),
+                    shoulders: Shoulders::default(),
                 }
             }
             _ => {
@@ -611,6 +627,7 @@ fn reconstruct_steps(
                     name,
                     &fractions(t0, upper, step),
                     opts,
+                    Shoulders::default(),
                     &mut warnings,
                 );
                 cuts.pop();
@@ -641,6 +658,7 @@ fn reconstruct_steps(
                     start_cap: CapKind::Open,
                     end_cap: CapKind::Flat,
                     tip: sole,
+                    shoulders: Shoulders::default(),
                 }
             }
         };
@@ -665,7 +683,40 @@ fn reconstruct_steps(
         }
     }
     progress("transitions");
-    let transitions = assemble(&mut parts, &seg, crotch_level, &input, &mut warnings);
+    // At most twice: an arm whose side transition could not be built or
+    // strays from the input loses it (assemble only tries side arms), and
+    // the torso is cut again, its loops above that armpit reaching into
+    // the arm instead.
+    let transitions = loop {
+        let (transitions, poor) = assemble(
+            &mut parts,
+            &seg,
+            crotch_level,
+            &input,
+            shoulders,
+            &mut warnings,
+        );
+        if !poor.contains(&true) {
+            break transitions;
+        }
+        for (k, arm) in [PartName::LeftArm, PartName::RightArm]
+            .into_iter()
+            .enumerate()
+        {
+            if poor[k] {
+                shoulders.side[k] = false;
+                warnings.push(format!(
+                    "{arm}: the shoulder transition was left out; the torso reaches into the arm instead"
+                ));
+            }
+        }
+        if let Some(plan) = torso_plan(shoulders, &mut warnings) {
+            let torso = refine(&cutter, plan, opts, &input, &mut warnings)?;
+            if let Some(t) = parts.iter_mut().find(|p| p.name == PartName::Torso) {
+                *t = torso;
+            }
+        }
+    };
     let model = Body {
         units: opts.units,
         frame: seg.frame,
@@ -681,21 +732,29 @@ fn reconstruct_steps(
 /// Builds the transitions (method.md §6, [`crate::transition`]): each leg's
 /// first section to its half of the torso's first curve, split at the
 /// crotch by the plane normal to the body's left axis (the two legs'
-/// transitions close the torso's bottom), and the torso's last section to
-/// the head's first where they are apart. Magnitudes are fitted to the
-/// input ([`fit_magnitudes`]). When a leg's transition cannot be built the
-/// torso's bottom gets a flat cap instead, with a warning.
+/// transitions close the torso's bottom); each arm on the torso's side
+/// (`shoulders`) from its first section to the torso's surface cut by the
+/// side plane (vertical through the armpit, [`SideCut`]); and the torso's
+/// last section to the head's first where they are apart. Magnitudes are
+/// fitted to the input ([`fit_magnitudes`]). When a leg's transition
+/// cannot be built the torso's bottom gets a flat cap instead, with a
+/// warning. Returns the transitions and, per arm (left, right), whether
+/// its side transition failed or strayed further from the input than
+/// [`ARM_TRANSITION_LIMIT`] (it is then left out, and the caller rebuilds
+/// the torso to reach into that arm instead).
 fn assemble(
     parts: &mut [BodyPart],
     seg: &Segmentation,
     crotch_level: Real,
     input: &InputDistance,
+    shoulders: Shoulders,
     warnings: &mut Vec<String>,
-) -> Vec<BodyTransition> {
+) -> (Vec<BodyTransition>, [bool; 2]) {
     let mut out = Vec::new();
+    let mut poor = [false; 2];
     let up = seg.frame.up;
     let Some(ti) = parts.iter().position(|p| p.name == PartName::Torso) else {
-        return out;
+        return (out, poor);
     };
     let distance = |points: &[Point3]| input.distances(points);
     let build = |from: usize, spec: TransitionSpec, parts: &[BodyPart]| {
@@ -711,6 +770,14 @@ fn assemble(
                 to: parts[ti].name,
                 transition,
             })
+    };
+    // Transitions from several parts over the cores, results in order.
+    let build_all = |specs: &[(usize, TransitionSpec)], parts: &[BodyPart]| {
+        crate::distance::parallel_map(specs, 1, |run| {
+            run.iter()
+                .map(|&(from, spec)| build(from, spec, parts))
+                .collect()
+        })
     };
     // Legs: the seam through the crotch (its level; horizontally midway
     // between the legs' first centres).
@@ -739,18 +806,14 @@ fn assemble(
                         normal: seg.frame.left * side.signum(),
                         up,
                     }),
+                    side: None,
                     order: torso_order.clamp(6, 16),
                 };
                 (li, spec)
             })
             .collect();
         // The two legs' transitions over the cores.
-        let shared: &[BodyPart] = parts;
-        let results = crate::distance::parallel_map(&specs, 1, |run| {
-            run.iter()
-                .map(|&(li, spec)| build(li, spec, shared))
-                .collect()
-        });
+        let results = build_all(&specs, parts);
         for (&(li, _), result) in specs.iter().zip(results) {
             match result {
                 Ok(t) => out.push(t),
@@ -779,6 +842,62 @@ fn assemble(
             Err(e) => warnings.push(format!("torso: bottom left open ({e})")),
         }
     }
+    // Hanging arms: the arm's first section to the torso's shoulder, cut
+    // by the vertical plane through the armpit (the torso's loops above
+    // the armpit stop just past it, `torso_without_arms`).
+    let arms: Vec<(usize, TransitionSpec)> = parts
+        .iter()
+        .enumerate()
+        .filter_map(|(ai, p)| {
+            let sh = hanging_shoulder(seg, p.name).filter(|_| shoulders.side_of(p.name))?;
+            let along = sh.direction.dot(sh.normal);
+            if along.abs() < 1e-6 {
+                return None;
+            }
+            // Where the arm's axis line meets the plane.
+            let lambda = (sh.armpit - sh.start).dot(sh.normal) / along;
+            // The contour's Fourier order: at 8-24 (the arm's first
+            // curve's) the transition's end lay 0.5-1.8 mm off the torso's
+            // surface, at 32 0.08-0.6 mm (reconstruct_real).
+            let order = 32;
+            Some((
+                ai,
+                TransitionSpec {
+                    from_start: true,
+                    to_start: false,
+                    magnitudes: [1.0, 1.0],
+                    seam: None,
+                    side: Some(SideCut {
+                        point: sh.start + sh.direction * lambda,
+                        normal: sh.normal,
+                    }),
+                    order,
+                },
+            ))
+        })
+        .collect();
+    {
+        let results = build_all(&arms, parts);
+        for (&(ai, _), result) in arms.iter().zip(results) {
+            let k = usize::from(parts[ai].name == PartName::RightArm);
+            match result {
+                Ok(t)
+                    if transition_rms(&t.transition, input)
+                        <= ARM_TRANSITION_LIMIT * seg.height =>
+                {
+                    out.push(t)
+                }
+                Ok(_) => poor[k] = true,
+                Err(e) => {
+                    warnings.push(format!(
+                        "{}: no transition to the torso ({e})",
+                        parts[ai].name
+                    ));
+                    poor[k] = true;
+                }
+            }
+        }
+    }
     // Neck: torso's last section to the head's first, where apart.
     if let Some(hi) = parts.iter().position(|p| p.name == PartName::Head) {
         let a = parts[ti].part.curves().last().map(|c| c.frame.origin);
@@ -789,6 +908,7 @@ fn assemble(
                 to_start: true,
                 magnitudes: [1.0, 1.0],
                 seam: None,
+                side: None,
                 order: 1,
             };
             // From the torso (u = 0) to the head.
@@ -807,8 +927,30 @@ fn assemble(
             }
         }
     }
-    out
+    (out, poor)
 }
+
+/// The root mean square of the distances from a transition's surface to
+/// the input: 15 rows strictly between its curves × 64 points around.
+fn transition_rms(t: &Transition, input: &InputDistance) -> Real {
+    let patch = t.patch();
+    let points: Vec<Point3> = (1..16)
+        .flat_map(|j| {
+            let c = patch.curve_at(j as Real / 16.0);
+            (0..64).map(move |i| c.point(std::f64::consts::TAU * i as Real / 64.0))
+        })
+        .collect();
+    let d = input.distances(&points);
+    (d.iter().map(|x| x * x).sum::<Real>() / d.len().max(1) as Real).sqrt()
+}
+
+/// The largest RMS distance (fraction of the height, [`transition_rms`])
+/// from an arm's side transition to the input that is kept. Measured: 0.9-
+/// 2.5 mm on the shared meshes and their virtual scans, 2.8-3.4 mm on the
+/// external scan; 8.2 and 10.1 mm on the virtual scan of the built-in body
+/// with its legs spread 8° (pose_variants), where the arms' first sections
+/// fold the transitions over the shoulders.
+const ARM_TRANSITION_LIMIT: Real = 0.003;
 
 /// The torso's last and the head's first section closer than this
 /// fraction of the height share their plane: no neck transition.

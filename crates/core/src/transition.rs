@@ -16,8 +16,12 @@
 //! tangent direction are continuous across the join (and the same at
 //! `u = 1`): the transition keeps G1 continuity with both parts.
 //!
-//! **Boundary on the torso.** For the neck and arms `p₁` would be a
-//! part's own end section. For a leg it is the leg's half of the torso's
+//! **Boundary on the torso.** For the neck `p₁` is the head's own end
+//! section. For an arm it is a curve on the torso's side ([`SideCut`],
+//! [`side_cut_loop`]): the torso's surface cut by a plane (vertical
+//! through the armpit), with `τ₁` the surface's own direction across the
+//! curve, and both tangents scaled by the local gap ([`gap_scaled`]). For
+//! a leg it is the leg's half of the torso's
 //! bottom curve ([`Seam`]): the torso's first curve is split by the plane
 //! through the crotch point `K` normal to the body's left axis; the half on
 //! the leg's side is closed by a seam across the plane that dips from the
@@ -36,8 +40,8 @@
 //! there.
 //!
 //! **Design parameters** (method.md §7): the two magnitudes, plus 6 for a
-//! seam (its point and plane normal); everything else is derived from the
-//! parts.
+//! seam or a side cut (its point and plane normal); everything else is
+//! derived from the parts.
 
 use crate::curve::SpaceCurve;
 use crate::math::{Point3, Real, Vec3};
@@ -116,7 +120,8 @@ pub struct TransitionSpec {
     /// not used. Both tangents are then scaled by the local gap between
     /// the boundary curves ([`gap_scaled`]).
     pub side: Option<SideCut>,
-    /// Fourier order of a seam half-loop and its tangents.
+    /// Fourier order of a seam half-loop or a side curve and their
+    /// tangents.
     pub order: usize,
 }
 

@@ -876,6 +876,14 @@ fn assemble(
             ))
         })
         .collect();
+    // A side arm whose axis line never meets its side plane has no
+    // transition either: the torso must reach into it instead.
+    for (ai, p) in parts.iter().enumerate() {
+        let k = usize::from(p.name == PartName::RightArm);
+        if shoulders.side_of(p.name) && !arms.iter().any(|&(i, _)| i == ai) {
+            poor[k] = true;
+        }
+    }
     {
         let results = build_all(&arms, parts);
         for (&(ai, _), result) in arms.iter().zip(results) {

@@ -329,34 +329,39 @@ impl<'a> PointGrid<'a> {
             sorted: Vec::new(),
         };
         // Each point's cell (`u32::MAX` for a point left out: the grid
-        // has at most ~4M cells). The grid's origin is the finite points'
-        // minimum, so their offsets are at least 0 and truncation is the
-        // floor of `coords` (without a call to `floor` per coordinate).
-        let keys: Vec<u32> = points
-            .iter()
-            .map(|p| {
-                if p.is_finite() {
-                    let d = (*p - grid.origin) / grid.cell;
-                    grid.key([d.x as i64, d.y as i64, d.z as i64]) as u32
-                } else {
-                    u32::MAX
-                }
-            })
-            .collect();
+        // has at most ~4M cells), over the cores. The grid's origin is the
+        // finite points' minimum, so their offsets are at least 0 and
+        // truncation is the floor of `coords` (without a call to `floor`
+        // per coordinate).
+        let mut keys = vec![0u32; points.len()];
+        crate::distance::par_for_each_mut(&mut keys, 1 << 15, |i, key| {
+            let p = points[i];
+            *key = if p.is_finite() {
+                let d = (p - grid.origin) / grid.cell;
+                grid.key([d.x as i64, d.y as i64, d.z as i64]) as u32
+            } else {
+                u32::MAX
+            };
+        });
         for &k in keys.iter().filter(|&&k| k != u32::MAX) {
             grid.starts[k as usize + 1] += 1;
         }
         for i in 0..n {
             grid.starts[i + 1] += grid.starts[i];
         }
+        // The points' indices cell by cell (in index order within a
+        // cell), then the points gathered in that order: the scatter moves
+        // 4-byte indices, and the copy of the points writes in sequence
+        // (no zero-filled array first).
         let mut fill = grid.starts.clone();
-        grid.sorted = vec![Vec3::ZERO; grid.starts[n] as usize];
-        for (p, &k) in points.iter().zip(&keys) {
+        let mut order = vec![0u32; grid.starts[n] as usize];
+        for (i, &k) in keys.iter().enumerate() {
             if k != u32::MAX {
-                grid.sorted[fill[k as usize] as usize] = *p;
+                order[fill[k as usize] as usize] = i as u32;
                 fill[k as usize] += 1;
             }
         }
+        grid.sorted = order.iter().map(|&i| points[i as usize]).collect();
         grid
     }
 

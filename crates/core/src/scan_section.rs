@@ -1393,6 +1393,23 @@ mod tests {
         expected.sort_unstable();
         sort_keyed(&mut keyed);
         assert_eq!(keyed, expected);
+        // A body's heights, repeats, both signs and high-bit ties among
+        // them, in no index order.
+        let mut keyed: Vec<(u64, u32)> = (0..90_000u32)
+            .map(|i| {
+                let h = match i % 4 {
+                    0 => (rng.uniform() - 0.45) * 1.8,
+                    1 => ((rng.uniform() - 0.5) * 40.0).round() * 0.05,
+                    2 => 0.5 + ((i * 7919) % 37) as Real * 1e-12,
+                    _ => -(rng.uniform() * 1e-3),
+                };
+                (height_key(h), i.wrapping_mul(2_654_435_761) % 90_001)
+            })
+            .collect();
+        let mut expected = keyed.clone();
+        expected.sort_unstable();
+        sort_keyed(&mut keyed);
+        assert_eq!(keyed, expected);
     }
     use crate::assert_near;
     use crate::scanner::Rng;

@@ -460,16 +460,16 @@ impl fmt::Debug for SortedUp {
 }
 
 impl SortedUp {
-    /// From the slicing's sort along `axis` (indices and heights in
-    /// ascending order) for `up = ±axis`: the same when `up = axis`;
-    /// reversed, heights negated, when `up = −axis` (`p·(−a) = −(p·a)`
-    /// exactly; ties then run in descending index order, which the
+    /// From the slicing's sort along its unit `axis` (indices and heights
+    /// in ascending order) for `up = ±axis` exactly: the same when `up =
+    /// axis`; reversed, heights negated, when `up = −axis` (`p·(−a) =
+    /// −(p·a)` exactly; ties then run in descending index order, which the
     /// cutter does not see: it takes whole height ranges and sorts each
-    /// slab itself). Nothing for another `up`.
-    fn along(sorted: Option<(Vec<u32>, Vec<Real>)>, axis: Vec3, up: Vec3) -> SortedUp {
+    /// slab itself). Nothing for another `up` (the cutter sorts then).
+    fn along(sorted: Option<(Vec3, (Vec<u32>, Vec<Real>))>, up: Vec3) -> SortedUp {
         SortedUp(
             sorted
-                .and_then(|(mut order, mut heights)| {
+                .and_then(|(axis, (mut order, mut heights))| {
                     if up == axis {
                         Some((order, heights))
                     } else if up == -axis {
@@ -555,20 +555,20 @@ impl<'a> AxisSlicer<'a> {
     }
 
     /// [`AxisSlicer::new`] with the spacing estimated here, and for a
-    /// cloud the estimate's sort by height along `axis` (indices and
-    /// heights, [`CloudSlicer`]'s).
+    /// cloud the estimate's sort by height (indices and heights,
+    /// [`CloudSlicer`]'s) with the unit axis of those heights.
     #[allow(clippy::type_complexity)]
     fn new_sorted(
         body: BodyGeometry<'a>,
         axis: Vec3,
         opts: &SegmentOptions,
-    ) -> Result<(AxisSlicer<'a>, Option<(Vec<u32>, Vec<Real>)>), SegmentError> {
+    ) -> Result<(AxisSlicer<'a>, Option<(Vec3, (Vec<u32>, Vec<Real>))>), SegmentError> {
         match body {
             BodyGeometry::Mesh(_) => Ok((AxisSlicer::new(body, axis, opts, None)?, None)),
             BodyGeometry::Cloud(c) => {
                 let cloud = CloudSlicer::new(c, axis)?;
                 let slicer = AxisSlicer::new(body, axis, opts, Some(cloud.spacing()))?;
-                Ok((slicer, Some(cloud.into_sorted())))
+                Ok((slicer, Some((cloud.axis(), cloud.into_sorted()))))
             }
         }
     }
@@ -2077,7 +2077,7 @@ pub fn segment(
         landmarks,
         parts,
         warnings,
-        sorted_up: SortedUp::along(sorted_along_axis, axis, up),
+        sorted_up: SortedUp::along(sorted_along_axis, up),
     })
 }
 
@@ -3295,6 +3295,48 @@ fn find_wrist(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The slicing's sort handed to the cutter along `up = ±axis`: heights
+    /// ascending and equal to `p·up` for the points in that order, each
+    /// point once; nothing for another `up`.
+    #[test]
+    fn sorted_up_follows_the_axis_either_way() {
+        let mut rng = crate::scanner::Rng::new(5);
+        let points: Vec<Point3> = (0..3000)
+            .map(|k| {
+                // Repeated heights (ties) among random ones.
+                let y = if k % 3 == 0 {
+                    (k % 7) as Real * 0.1
+                } else {
+                    rng.uniform() - 0.5
+                };
+                Vec3::new(rng.uniform(), y, rng.uniform())
+            })
+            .collect();
+        let cloud = PointCloud {
+            positions: points.clone(),
+            normals: None,
+        };
+        let slicer = || CloudSlicer::new(&cloud, Vec3::new(0.1, 1.0, -0.2)).unwrap();
+        let axis = slicer().axis();
+        for up in [axis, -axis] {
+            let got = SortedUp::along(Some((axis, slicer().into_sorted())), up);
+            let (order, heights) = got.0.as_deref().expect("a sort for ±axis");
+            assert!(heights.windows(2).all(|w| w[0] <= w[1]));
+            for (&i, &h) in order.iter().zip(heights) {
+                assert_eq!(points[i as usize].dot(up), h);
+            }
+            let mut seen = order.clone();
+            seen.sort_unstable();
+            assert!(seen.iter().enumerate().all(|(k, &i)| k as u32 == i));
+        }
+        let nearly = Vec3::new(axis.x, axis.y, f64::from_bits(axis.z.to_bits() + 1));
+        for up in [Vec3::X, nearly] {
+            assert!(SortedUp::along(Some((axis, slicer().into_sorted())), up)
+                .0
+                .is_none());
+        }
+    }
 
     /// The hull from integer keys is the hull of the comparator sort it
     /// replaced, point for point and bit for bit (duplicates, signed

@@ -442,7 +442,11 @@ pub struct Segmentation {
 /// one core). Not part of the segmentation's value: any two compare
 /// equal.
 #[derive(Clone, Default)]
-pub(crate) struct SortedUp(Option<std::sync::Arc<(Vec<u32>, Vec<Real>)>>);
+pub(crate) struct SortedUp(Option<std::sync::Arc<HeightSort>>);
+
+/// Point indices sorted by height along an axis (ties by index) and those
+/// heights.
+type HeightSort = (Vec<u32>, Vec<Real>);
 
 impl PartialEq for SortedUp {
     fn eq(&self, _: &SortedUp) -> bool {
@@ -466,7 +470,7 @@ impl SortedUp {
     /// −(p·a)` exactly; ties then run in descending index order, which the
     /// cutter does not see: it takes whole height ranges and sorts each
     /// slab itself). Nothing for another `up` (the cutter sorts then).
-    fn along(sorted: Option<(Vec3, (Vec<u32>, Vec<Real>))>, up: Vec3) -> SortedUp {
+    fn along(sorted: Option<(Vec3, HeightSort)>, up: Vec3) -> SortedUp {
         SortedUp(
             sorted
                 .and_then(|(axis, (mut order, mut heights))| {
@@ -557,12 +561,11 @@ impl<'a> AxisSlicer<'a> {
     /// [`AxisSlicer::new`] with the spacing estimated here, and for a
     /// cloud the estimate's sort by height (indices and heights,
     /// [`CloudSlicer`]'s) with the unit axis of those heights.
-    #[allow(clippy::type_complexity)]
     fn new_sorted(
         body: BodyGeometry<'a>,
         axis: Vec3,
         opts: &SegmentOptions,
-    ) -> Result<(AxisSlicer<'a>, Option<(Vec3, (Vec<u32>, Vec<Real>))>), SegmentError> {
+    ) -> Result<(AxisSlicer<'a>, Option<(Vec3, HeightSort)>), SegmentError> {
         match body {
             BodyGeometry::Mesh(_) => Ok((AxisSlicer::new(body, axis, opts, None)?, None)),
             BodyGeometry::Cloud(c) => {
@@ -2403,7 +2406,7 @@ pub struct Cutter<'a> {
     /// Mesh slicers along `up` and `−up` (`None`: the mesh is invalid).
     mesh_slicers: [OnceLock<Option<MeshSlicer<'a>>>; 2],
     /// Cloud indices sorted by height along `up`, and those heights.
-    sorted: OnceLock<std::sync::Arc<(Vec<u32>, Vec<Real>)>>,
+    sorted: OnceLock<std::sync::Arc<HeightSort>>,
     grid: OnceLock<BallGrid>,
     /// Meshes: a grid of the vertices, each vertex's triangles (CSR: the
     /// triangles of vertex `v` are `tris[start[v]..start[v + 1]]`) and the
@@ -2723,7 +2726,7 @@ impl<'a> Cutter<'a> {
                 let sorted = self.sorted.get_or_init(|| {
                     // The segmentation's sort when it is this cloud's
                     // (checked at its ends and middle), else sorted here.
-                    let same = |s: &(Vec<u32>, Vec<Real>)| {
+                    let same = |s: &HeightSort| {
                         s.0.len() == pos.len()
                             && s.1.len() == pos.len()
                             && [0, pos.len() / 2, pos.len().saturating_sub(1)]

@@ -289,10 +289,13 @@ impl<'m> MeshDistance<'m> {
         triangle: impl Fn(usize) -> bool + Sync,
     ) -> Vec<Real> {
         let max_sq = max_distance * max_distance;
-        coherent_map(points, |p, seed: &mut Option<usize>| {
+        // The state a query leaves for the next: its nearest triangle
+        // (the next one's seed) and the search stack (allocated once a run).
+        type State = (Option<usize>, Vec<(u32, Real)>);
+        coherent_map(points, |p, (seed, stack): &mut State| {
             let c = match *seed {
-                Some(t) => self.closest_from(p, t, max_sq, &node, &triangle),
-                None => self.search(p, max_sq, None, &node, &triangle),
+                Some(t) => self.closest_from(p, t, max_sq, &node, &triangle, stack),
+                None => self.search(p, max_sq, None, &node, &triangle, stack),
             };
             *seed = c.map(|c| c.triangle);
             c.map_or(Real::INFINITY, |c| c.distance)
@@ -307,7 +310,8 @@ impl<'m> MeshDistance<'m> {
     /// The nearest surface point closer than `max_distance`, if any.
     pub fn closest_within(&self, p: Point3, max_distance: Real) -> Option<Closest> {
         let all = |_| true;
-        self.search(p, max_distance * max_distance, None, &all, &all)
+        let mut stack = Vec::new();
+        self.search(p, max_distance * max_distance, None, &all, &all, &mut stack)
     }
 
     /// For every node of the hierarchy, the bitwise or of `label(t)` over
@@ -413,21 +417,23 @@ impl<'m> MeshDistance<'m> {
         max_sq: Real,
         node: &impl Fn(usize) -> bool,
         triangle: &impl Fn(usize) -> bool,
+        stack: &mut Vec<(u32, Real)>,
     ) -> Option<Closest> {
         let [a, b, c] = self.mesh.triangle(seed);
         let q = closest_point_on_triangle(p, a, b, c);
         let d = (q - p).norm_squared();
         if d < max_sq {
-            self.search(p, d, Some((q, seed)), node, triangle)
+            self.search(p, d, Some((q, seed)), node, triangle, stack)
         } else {
-            self.search(p, max_sq, None, node, triangle)
+            self.search(p, max_sq, None, node, triangle, stack)
         }
     }
 
     /// Depth-first search for the nearest triangle `t` with `triangle(t)`
     /// closer than `√best_sq` (else `best`), nearer child first; a node `n`
     /// is entered only while `node(n)` holds and its box is closer than the
-    /// best so far.
+    /// best so far. `stack` is the search's stack (emptied first; passed in
+    /// so that a run of queries allocates it once).
     fn search(
         &self,
         p: Point3,
@@ -435,6 +441,7 @@ impl<'m> MeshDistance<'m> {
         mut best: Option<(Point3, usize)>,
         node_ok: &impl Fn(usize) -> bool,
         triangle_ok: &impl Fn(usize) -> bool,
+        stack: &mut Vec<(u32, Real)>,
     ) -> Option<Closest> {
         if self.nodes.is_empty() || !node_ok(0) {
             return best.map(|(point, triangle)| Closest {
@@ -443,7 +450,7 @@ impl<'m> MeshDistance<'m> {
                 triangle,
             });
         }
-        let mut stack: Vec<(u32, Real)> = Vec::with_capacity(64);
+        stack.clear();
         stack.push((0, self.nodes[0].distance_sq(p)));
         while let Some((ni, dn)) = stack.pop() {
             if dn >= best_sq {

@@ -642,7 +642,7 @@ pub fn cores() -> usize {
 
 /// `f` over contiguous runs of `items`, concatenated in order: the same
 /// result as `f(items)` when `f` maps each item on its own. The runs (each
-/// at least `min_run` items long, up to [`RUNS_PER_CORE`] per core) are
+/// at least `min_run` items long, up to four per core) are
 /// taken by the available cores (at most 8; the calling thread is one) as
 /// they come free: on a machine shared with other work, a core that is
 /// held up takes fewer runs instead of holding up the whole map.

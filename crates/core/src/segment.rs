@@ -2380,7 +2380,9 @@ pub fn cut_part_along(
 ///   by their lowest height once; a plane visits only the triangles
 ///   spanning it). Of a cloud, one index of the points sorted by height
 ///   along `up`: a slab `|p·n − c| ≤ t` is a contiguous run found by binary
-///   search.
+///   search. The segmentation's own sort of the cloud (its slicing axis is
+///   `±up`) is that index ([`Segmentation`]'s `sorted_up`), checked to be
+///   this cloud's; the cutter sorts only without it.
 /// * **Other normals** (the arms' own axes): a mesh is cut through the
 ///   triangles with a vertex in the ball of radius `ρ` around the axis
 ///   point; a cloud's slab is the points of that ball found through a

@@ -6,7 +6,7 @@ use crate::math::{Point3, Real, Vec3};
 use crate::mesh::{Aabb, Mesh};
 
 /// Triangles per leaf of the hierarchy.
-const LEAF_SIZE: usize = 4;
+const LEAF_SIZE: usize = 8;
 
 /// A node of [`MeshDistance`]'s hierarchy: 32 bytes, so two siblings
 /// (stored side by side) fill one 64-byte cache line. Its box is stored
@@ -230,26 +230,31 @@ impl<'m> MeshDistance<'m> {
                 stack.push((left, s, mid));
                 stack.push((left + 1, mid, e));
             }
-            // Children come after their parents: boxes bottom-up (a
-            // leaf's from its triangles, an inner node's the union of
-            // its children's, both rounded outward).
-            for ni in (0..nodes.len()).rev() {
-                let node = nodes[ni];
-                let b = if node.count > 0 {
+            // Boxes bottom-up, rounded outward: the leaves' from their
+            // triangles (over the cores), then, children coming after
+            // their parents, each inner node's the union of its
+            // children's.
+            par_for_each_mut(&mut nodes, 4096, |_, node| {
+                if node.count > 0 {
                     let s = node.start as usize;
-                    order[s..s + node.count as usize]
+                    let b = order[s..s + node.count as usize]
                         .iter()
                         .map(|&t| tri_bounds(mesh, t as usize))
                         .reduce(union)
                         .unwrap_or(Aabb {
                             min: Vec3::ZERO,
                             max: Vec3::ZERO,
-                        })
-                } else {
+                        });
+                    node.boxed(&b);
+                }
+            });
+            for ni in (0..nodes.len()).rev() {
+                let node = nodes[ni];
+                if node.count == 0 {
                     let l = node.start as usize;
-                    union(nodes[l].bounds(), nodes[l + 1].bounds())
-                };
-                nodes[ni].boxed(&b);
+                    let b = union(nodes[l].bounds(), nodes[l + 1].bounds());
+                    nodes[ni].boxed(&b);
+                }
             }
         }
         MeshDistance { mesh, nodes, order }
@@ -284,10 +289,13 @@ impl<'m> MeshDistance<'m> {
         triangle: impl Fn(usize) -> bool + Sync,
     ) -> Vec<Real> {
         let max_sq = max_distance * max_distance;
-        coherent_map(points, |p, seed: &mut Option<usize>| {
+        // The state a query leaves for the next: its nearest triangle
+        // (the next one's seed) and the search stack (allocated once a run).
+        type State = (Option<usize>, Vec<(u32, Real)>);
+        coherent_map(points, |p, (seed, stack): &mut State| {
             let c = match *seed {
-                Some(t) => self.closest_from(p, t, max_sq, &node, &triangle),
-                None => self.search(p, max_sq, None, &node, &triangle),
+                Some(t) => self.closest_from(p, t, max_sq, &node, &triangle, stack),
+                None => self.search(p, max_sq, None, &node, &triangle, stack),
             };
             *seed = c.map(|c| c.triangle);
             c.map_or(Real::INFINITY, |c| c.distance)
@@ -302,7 +310,8 @@ impl<'m> MeshDistance<'m> {
     /// The nearest surface point closer than `max_distance`, if any.
     pub fn closest_within(&self, p: Point3, max_distance: Real) -> Option<Closest> {
         let all = |_| true;
-        self.search(p, max_distance * max_distance, None, &all, &all)
+        let mut stack = Vec::new();
+        self.search(p, max_distance * max_distance, None, &all, &all, &mut stack)
     }
 
     /// For every node of the hierarchy, the bitwise or of `label(t)` over
@@ -408,21 +417,23 @@ impl<'m> MeshDistance<'m> {
         max_sq: Real,
         node: &impl Fn(usize) -> bool,
         triangle: &impl Fn(usize) -> bool,
+        stack: &mut Vec<(u32, Real)>,
     ) -> Option<Closest> {
         let [a, b, c] = self.mesh.triangle(seed);
         let q = closest_point_on_triangle(p, a, b, c);
         let d = (q - p).norm_squared();
         if d < max_sq {
-            self.search(p, d, Some((q, seed)), node, triangle)
+            self.search(p, d, Some((q, seed)), node, triangle, stack)
         } else {
-            self.search(p, max_sq, None, node, triangle)
+            self.search(p, max_sq, None, node, triangle, stack)
         }
     }
 
     /// Depth-first search for the nearest triangle `t` with `triangle(t)`
     /// closer than `√best_sq` (else `best`), nearer child first; a node `n`
     /// is entered only while `node(n)` holds and its box is closer than the
-    /// best so far.
+    /// best so far. `stack` is the search's stack (emptied first; passed in
+    /// so that a run of queries allocates it once).
     fn search(
         &self,
         p: Point3,
@@ -430,6 +441,7 @@ impl<'m> MeshDistance<'m> {
         mut best: Option<(Point3, usize)>,
         node_ok: &impl Fn(usize) -> bool,
         triangle_ok: &impl Fn(usize) -> bool,
+        stack: &mut Vec<(u32, Real)>,
     ) -> Option<Closest> {
         if self.nodes.is_empty() || !node_ok(0) {
             return best.map(|(point, triangle)| Closest {
@@ -438,7 +450,7 @@ impl<'m> MeshDistance<'m> {
                 triangle,
             });
         }
-        let mut stack: Vec<(u32, Real)> = Vec::with_capacity(64);
+        stack.clear();
         stack.push((0, self.nodes[0].distance_sq(p)));
         while let Some((ni, dn)) = stack.pop() {
             if dn >= best_sq {
@@ -628,34 +640,128 @@ pub fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |c| c.get().min(8)))
 }
 
-/// `f` over contiguous runs of `items`, one per available core (at most
-/// 8, and each run at least `min_run` items long), concatenated in order:
-/// the same result as `f(items)` when `f` maps each item on its own.
+/// `f` over contiguous runs of `items`, concatenated in order: the same
+/// result as `f(items)` when `f` maps each item on its own. The runs (each
+/// at least `min_run` items long, up to four per core) are
+/// taken by the available cores (at most 8; the calling thread is one) as
+/// they come free: on a machine shared with other work, a core that is
+/// held up takes fewer runs instead of holding up the whole map.
 pub fn parallel_map<T: Sync, R: Send>(
     items: &[T],
     min_run: usize,
     f: impl Fn(&[T]) -> Vec<R> + Sync,
 ) -> Vec<R> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
     let cores = cores();
-    let runs = cores.min(items.len() / min_run.max(1)).max(1);
-    if runs == 1 {
+    let most = items.len() / min_run.max(1);
+    let threads = cores.min(most);
+    if threads <= 1 {
         return f(items);
     }
-    let size = items.len().div_ceil(runs);
-    std::thread::scope(|scope| {
-        let f = &f;
-        let handles: Vec<_> = items
-            .chunks(size)
-            .map(|run| scope.spawn(move || f(run)))
-            .collect();
-        let mut out = Vec::with_capacity(items.len());
+    let runs: Vec<&[T]> = items
+        .chunks(items.len().div_ceil(most.min(RUNS_PER_CORE * cores)))
+        .collect();
+    let next = AtomicUsize::new(0);
+    let work = || {
+        let mut done = Vec::new();
+        loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            match runs.get(i) {
+                Some(run) => done.push((i, f(run))),
+                None => return done,
+            }
+        }
+    };
+    let mut all: Vec<(usize, Vec<R>)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let mut all = work();
         for h in handles {
             match h.join() {
-                Ok(part) => out.extend(part),
+                Ok(part) => all.extend(part),
                 Err(panic) => std::panic::resume_unwind(panic),
             }
         }
-        out
+        all
+    });
+    all.sort_unstable_by_key(|(i, _)| *i);
+    let mut out = Vec::with_capacity(items.len());
+    for (_, part) in all {
+        out.extend(part);
+    }
+    out
+}
+
+/// `f(i, &mut items[i])` for every item, over the cores: runs of at least
+/// `min_run` items taken as the cores come free (as [`parallel_map`]'s),
+/// each core writing its runs in place. Filling a fresh zeroed array this
+/// way (`vec![0; n]`: pages the system zeroes on first touch) also
+/// spreads the first touches over the cores, where collecting runs and
+/// concatenating them would copy everything once more on one core.
+pub fn par_for_each_mut<R: Send>(
+    items: &mut [R],
+    min_run: usize,
+    f: impl Fn(usize, &mut R) + Sync,
+) {
+    let n = items.len();
+    let cores = cores();
+    let most = n / min_run.max(1);
+    let threads = cores.min(most);
+    if threads <= 1 {
+        for (i, x) in items.iter_mut().enumerate() {
+            f(i, x);
+        }
+        return;
+    }
+    let size = n.div_ceil(most.min(RUNS_PER_CORE * cores));
+    let jobs = std::sync::Mutex::new(items.chunks_mut(size).enumerate());
+    let work = || loop {
+        // (Nothing panics while the lock is held: a poisoned lock still
+        // hands out the runs.)
+        let job = match jobs.lock() {
+            Ok(mut j) => j.next(),
+            Err(poisoned) => poisoned.into_inner().next(),
+        };
+        let Some((k, run)) = job else {
+            return;
+        };
+        for (j, x) in run.iter_mut().enumerate() {
+            f(k * size + j, x);
+        }
+    };
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        work();
+        for h in handles {
+            if let Err(panic) = h.join() {
+                std::panic::resume_unwind(panic);
+            }
+        }
+    });
+}
+
+/// Runs per core of [`parallel_map`] (when the items allow): enough that
+/// a core slowed by other work leaves its share to the others, few enough
+/// that each run still amortizes its start (a warm-started search's first
+/// query, a run's allocations).
+const RUNS_PER_CORE: usize = 4;
+
+/// `(a(), b())`, the two run at once on two cores when there are (`b` on
+/// a scoped thread): e.g. two gathers into fresh arrays, whose page
+/// faults then run side by side.
+pub fn join<A: Send, B: Send>(
+    a: impl FnOnce() -> A + Send,
+    b: impl FnOnce() -> B + Send,
+) -> (A, B) {
+    if cores() < 2 {
+        return (a(), b());
+    }
+    std::thread::scope(|scope| {
+        let hb = scope.spawn(b);
+        let ra = a();
+        match hb.join() {
+            Ok(rb) => (ra, rb),
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
     })
 }
 
@@ -705,15 +811,36 @@ pub(crate) fn morton_sort(centres: &[Point3]) -> (Vec<u32>, Vec<u32>) {
 
 /// [`morton_sort`] of the points `centre(0..n)` (each asked twice, never
 /// stored).
-fn morton_sort_by(n: usize, centre: impl Fn(usize) -> Point3) -> (Vec<u32>, Vec<u32>) {
+fn morton_sort_by(n: usize, centre: impl Fn(usize) -> Point3 + Sync) -> (Vec<u32>, Vec<u32>) {
     let inf = Real::INFINITY;
+    // The bounds and the codes over the cores, in runs of the indices.
+    // (Runs' bounds combined in another order than one pass's can differ
+    // only in the sign of a zero bound, which gives the same codes: `v −
+    // (±0)` and `h − (±0)` are equal but for `v = −0`, which quantizes to
+    // 0 either way.)
+    let runs: Vec<std::ops::Range<usize>> = (0..n)
+        .step_by(1 << 14)
+        .map(|s| s..(s + (1 << 14)).min(n))
+        .collect();
+    let bounds: Vec<(Vec3, Vec3)> = parallel_map(&runs, 1, |rs| {
+        rs.iter()
+            .map(|r| {
+                let (mut lo, mut hi) = (Vec3::new(inf, inf, inf), Vec3::new(-inf, -inf, -inf));
+                for i in r.clone() {
+                    let c = centre(i);
+                    if c.is_finite() {
+                        lo = lo.min(c);
+                        hi = hi.max(c);
+                    }
+                }
+                (lo, hi)
+            })
+            .collect()
+    });
     let (mut lo, mut hi) = (Vec3::new(inf, inf, inf), Vec3::new(-inf, -inf, -inf));
-    for i in 0..n {
-        let c = centre(i);
-        if c.is_finite() {
-            lo = lo.min(c);
-            hi = hi.max(c);
-        }
+    for (l, h) in bounds {
+        lo = lo.min(l);
+        hi = hi.max(h);
     }
     let scale = |l: Real, h: Real| if h > l { 1023.0 / (h - l) } else { 0.0 };
     let s = Vec3::new(scale(lo.x, hi.x), scale(lo.y, hi.y), scale(lo.z, hi.z));
@@ -733,15 +860,19 @@ fn morton_sort_by(n: usize, centre: impl Fn(usize) -> Point3) -> (Vec<u32>, Vec<
             0
         }
     };
-    let mut keyed: Vec<(u32, u32)> = (0..n)
-        .map(|i| {
-            let c = centre(i);
-            let code = (spread(q(c.x, lo.x, s.x)) << 2)
-                | (spread(q(c.y, lo.y, s.y)) << 1)
-                | spread(q(c.z, lo.z, s.z));
-            (code, i as u32)
-        })
+    let mut codes = vec![0u32; n];
+    par_for_each_mut(&mut codes, 1 << 14, |i, code| {
+        let c = centre(i);
+        *code = (spread(q(c.x, lo.x, s.x)) << 2)
+            | (spread(q(c.y, lo.y, s.y)) << 1)
+            | spread(q(c.z, lo.z, s.z));
+    });
+    let mut keyed: Vec<(u32, u32)> = codes
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| (c, i as u32))
         .collect();
+    drop(codes);
     let mut scratch = vec![(0u32, 0u32); keyed.len()];
     for shift in [0u32, 11, 22] {
         let mut count = [0usize; 2049];
@@ -774,6 +905,34 @@ mod tests {
         let expected: Vec<u64> = items.iter().map(slow).collect();
         assert_eq!(each_on_cores(&items, slow), expected);
         assert!(each_on_cores(&[] as &[u64], slow).is_empty());
+    }
+
+    /// Runs taken as the cores come free come back in order, whatever
+    /// the run length and the items' costs; `join` returns both results.
+    #[test]
+    fn parallel_map_keeps_the_order() {
+        let items: Vec<u64> = (0..1000).map(|i| (i * 7919) % 101).collect();
+        let slow = |x: u64| (0..x * 50).fold(x, |a, k| a.wrapping_mul(31).wrapping_add(k));
+        let expected: Vec<u64> = items.iter().map(|&x| slow(x)).collect();
+        for min_run in [1, 3, 64, 250, 500, 1000, 5000] {
+            let got = parallel_map(&items, min_run, |run| {
+                run.iter().map(|&x| slow(x)).collect()
+            });
+            assert_eq!(got, expected, "min_run {min_run}");
+        }
+        // A map that is not one-to-one still concatenates its runs in order.
+        let pairs = parallel_map(&items, 7, |run| run.iter().flat_map(|&x| [x, x]).collect());
+        let doubled: Vec<u64> = items.iter().flat_map(|&x| [x, x]).collect();
+        assert_eq!(pairs, doubled);
+        assert!(parallel_map(&[] as &[u64], 4, |run| run.to_vec()).is_empty());
+        assert_eq!(join(|| slow(7), || slow(9)), (slow(7), slow(9)));
+        // In place: every item once, at its own index.
+        for min_run in [1, 10, 333, 2000] {
+            let mut out = vec![0u64; items.len()];
+            par_for_each_mut(&mut out, min_run, |i, x| *x += slow(items[i]) + 1);
+            let want: Vec<u64> = expected.iter().map(|x| x + 1).collect();
+            assert_eq!(out, want, "min_run {min_run}");
+        }
     }
 
     fn brute(mesh: &Mesh, p: Point3) -> Real {

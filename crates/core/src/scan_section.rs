@@ -218,19 +218,9 @@ impl<'c> CloudSlicer<'c> {
             .ok_or(ScanSectionError::BadAxis(axis.to_array()))?;
         // Sorted by height, ties by index: a radix sort of plain integers
         // (see [`height_key`], [`sort_keyed`]).
-        let key = height_key;
-        let mut keyed: Vec<(u64, u32)> = cloud
-            .positions
-            .iter()
-            .enumerate()
-            .map(|(i, p)| (key(p.dot(axis)), i as u32))
-            .collect();
+        let mut keyed = keyed_heights(&cloud.positions, axis);
         sort_keyed(&mut keyed);
-        let order: Vec<u32> = keyed.iter().map(|k| k.1).collect();
-        let heights: Vec<Real> = order
-            .iter()
-            .map(|&i| cloud.positions[i as usize].dot(axis))
-            .collect();
+        let (order, heights) = sorted_heights(&keyed, &cloud.positions, axis);
         let spacing = estimate_spacing(&cloud.positions, &order, &heights)
             .ok_or(ScanSectionError::Degenerate)?;
         Ok(CloudSlicer {
@@ -240,6 +230,12 @@ impl<'c> CloudSlicer<'c> {
             heights,
             spacing,
         })
+    }
+
+    /// The point indices sorted by height (ties by index) and their
+    /// heights.
+    pub(crate) fn into_sorted(self) -> (Vec<u32>, Vec<Real>) {
+        (self.order, self.heights)
     }
 
     /// The estimated point spacing `s ≈ ρ^{-1/2}` (twice the median
@@ -439,6 +435,34 @@ pub(crate) fn section_of_slab(
     }
 }
 
+/// `(height_key(h), i)` for every point `i` at height `h = p·axis`.
+pub(crate) fn keyed_heights(points: &[Point3], axis: Vec3) -> Vec<(u64, u32)> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (height_key(p.dot(axis)), i as u32))
+        .collect()
+}
+
+/// The indices of sorted [`keyed_heights`] and the points' heights in
+/// that order, the two gathered side by side on two cores (most of the
+/// time is the first touch of the fresh arrays' pages).
+pub(crate) fn sorted_heights(
+    keyed: &[(u64, u32)],
+    points: &[Point3],
+    axis: Vec3,
+) -> (Vec<u32>, Vec<Real>) {
+    crate::distance::join(
+        || keyed.iter().map(|k| k.1).collect(),
+        || {
+            keyed
+                .iter()
+                .map(|k| points[k.1 as usize].dot(axis))
+                .collect()
+        },
+    )
+}
+
 /// Sorts `(key, index)` pairs as `sort_unstable` on the pairs would (by
 /// key, ties by index; pairs built in index order end up ordered by key,
 /// ties by index), in linear time: a stable LSD radix sort on the keys'
@@ -566,44 +590,53 @@ fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real]) -> Optio
         return None;
     }
     let samples = n.min(1000);
-    let mut d: Vec<Real> = Vec::with_capacity(samples);
-    for s in 0..samples {
-        let i = s * n / samples;
-        let p = points[order[i] as usize];
-        // `best` is √best2 (the root is monotone: a squared distance not
-        // below best2 cannot give a root below best, so only the others
-        // take one).
-        let (mut best, mut best2) = (Real::INFINITY, Real::INFINITY);
-        for dir in [-1isize, 1] {
-            let mut j = i as isize + dir;
-            let mut steps = 0;
-            while j >= 0 && (j as usize) < n && steps < 4096 {
-                let dh = (heights[j as usize] - heights[i]).abs();
-                if dh >= best {
-                    break;
-                }
-                let q = points[order[j as usize] as usize];
-                let d2 = (p - q).norm_squared();
-                if d2 > 0.0 && d2 < best2 {
-                    let dist = d2.sqrt();
-                    if dist < best {
-                        (best, best2) = (dist, d2);
-                    }
-                }
-                j += dir;
-                steps += 1;
-            }
-        }
-        if best.is_finite() {
-            d.push(best);
-        }
-    }
+    // Each sample's nearest neighbour on its own, over the cores (in
+    // order).
+    let ss: Vec<usize> = (0..samples).collect();
+    let mut d: Vec<Real> = crate::distance::parallel_map(&ss, 64, |run| {
+        run.iter()
+            .filter_map(|&s| nearest_in_sweep(points, order, heights, s * n / samples))
+            .collect()
+    });
     if d.is_empty() {
         return None;
     }
     let k = d.len() / 2;
     let median = *d.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
     (median > 0.0).then_some(2.0 * median)
+}
+
+/// The distance from the point of sorted rank `i` to its nearest other
+/// point (of a different position) found by [`estimate_spacing`]'s sweep,
+/// `None` when there is none.
+fn nearest_in_sweep(points: &[Point3], order: &[u32], heights: &[Real], i: usize) -> Option<Real> {
+    let n = order.len();
+    let p = points[order[i] as usize];
+    // `best` is √best2 (the root is monotone: a squared distance not
+    // below best2 cannot give a root below best, so only the others
+    // take one).
+    let (mut best, mut best2) = (Real::INFINITY, Real::INFINITY);
+    for dir in [-1isize, 1] {
+        let mut j = i as isize + dir;
+        let mut steps = 0;
+        while j >= 0 && (j as usize) < n && steps < 4096 {
+            let dh = (heights[j as usize] - heights[i]).abs();
+            if dh >= best {
+                break;
+            }
+            let q = points[order[j as usize] as usize];
+            let d2 = (p - q).norm_squared();
+            if d2 > 0.0 && d2 < best2 {
+                let dist = d2.sqrt();
+                if dist < best {
+                    (best, best2) = (dist, d2);
+                }
+            }
+            j += dir;
+            steps += 1;
+        }
+    }
+    best.is_finite().then_some(best)
 }
 
 const NONE: u32 = u32::MAX;
@@ -1354,6 +1387,23 @@ mod tests {
             .map(|i| {
                 let h = 1.0 + ((i * 7919) % 37) as Real * 1e-12 - (i % 3) as Real;
                 (height_key(h), i.wrapping_mul(2_654_435_761) % 3001)
+            })
+            .collect();
+        let mut expected = keyed.clone();
+        expected.sort_unstable();
+        sort_keyed(&mut keyed);
+        assert_eq!(keyed, expected);
+        // A body's heights, repeats, both signs and high-bit ties among
+        // them, in no index order.
+        let mut keyed: Vec<(u64, u32)> = (0..90_000u32)
+            .map(|i| {
+                let h = match i % 4 {
+                    0 => (rng.uniform() - 0.45) * 1.8,
+                    1 => ((rng.uniform() - 0.5) * 40.0).round() * 0.05,
+                    2 => 0.5 + ((i * 7919) % 37) as Real * 1e-12,
+                    _ => -(rng.uniform() * 1e-3),
+                };
+                (height_key(h), i.wrapping_mul(2_654_435_761) % 90_001)
             })
             .collect();
         let mut expected = keyed.clone();

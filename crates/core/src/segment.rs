@@ -137,7 +137,8 @@ use crate::linalg::symmetric_eigen3;
 use crate::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::mesh::{Mesh, MeshError, PointCloud};
 use crate::scan_section::{
-    height_key, section_of_slab, sort_keyed, CloudSlicer, ScanSectionError, ScanSectionOptions,
+    height_key, keyed_heights, section_of_slab, sort_keyed, sorted_heights, CloudSlicer,
+    ScanSectionError, ScanSectionOptions,
 };
 use crate::section::{
     point_in_polygon, polygon_area_centroid, section_mesh, MeshSlicer, Plane, SectionError,
@@ -429,6 +430,64 @@ pub struct Segmentation {
     pub parts: Vec<PartAxis>,
     /// What was not found or is doubtful (a missing arm, a weak front).
     pub warnings: Vec<String>,
+    /// For a cloud, its sort by height along `up` (the slicing's own),
+    /// handed to the [`Cutter`]'s horizontal cuts.
+    pub(crate) sorted_up: SortedUp,
+}
+
+/// A cloud's point indices sorted by height along the frame's `up` (ties
+/// by index) and those heights, as the [`Cutter`] sorts them: the
+/// segmentation sorts the cloud along its slicing axis (`±up`) anyway, so
+/// the cutter does not sort it again (a 200 000-point scan: a few ms on
+/// one core). Not part of the segmentation's value: any two compare
+/// equal.
+#[derive(Clone, Default)]
+pub(crate) struct SortedUp(Option<std::sync::Arc<HeightSort>>);
+
+/// Point indices sorted by height along an axis (ties by index) and those
+/// heights.
+type HeightSort = (Vec<u32>, Vec<Real>);
+
+impl PartialEq for SortedUp {
+    fn eq(&self, _: &SortedUp) -> bool {
+        true
+    }
+}
+
+impl fmt::Debug for SortedUp {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.0 {
+            Some(s) => write!(f, "SortedUp({} points)", s.0.len()),
+            None => write!(f, "SortedUp(None)"),
+        }
+    }
+}
+
+impl SortedUp {
+    /// From the slicing's sort along its unit `axis` (indices and heights
+    /// in ascending order) for `up = ±axis` exactly: the same when `up =
+    /// axis`; reversed, heights negated, when `up = −axis` (`p·(−a) =
+    /// −(p·a)` exactly; ties then run in descending index order, which the
+    /// cutter does not see: it takes whole height ranges and sorts each
+    /// slab itself). Nothing for another `up` (the cutter sorts then).
+    fn along(sorted: Option<(Vec3, HeightSort)>, up: Vec3) -> SortedUp {
+        SortedUp(
+            sorted
+                .and_then(|(axis, (mut order, mut heights))| {
+                    if up == axis {
+                        Some((order, heights))
+                    } else if up == -axis {
+                        order.reverse();
+                        heights.reverse();
+                        heights.iter_mut().for_each(|h| *h = -*h);
+                        Some((order, heights))
+                    } else {
+                        None
+                    }
+                })
+                .map(std::sync::Arc::new),
+        )
+    }
 }
 
 impl Segmentation {
@@ -497,6 +556,24 @@ impl<'a> AxisSlicer<'a> {
                 AxisSlicer::Cloud(SlabComponents::new(&c.positions, axis, spacing, &graph)?)
             }
         })
+    }
+
+    /// [`AxisSlicer::new`] with the spacing estimated here, and for a
+    /// cloud the estimate's sort by height (indices and heights,
+    /// [`CloudSlicer`]'s) with the unit axis of those heights.
+    fn new_sorted(
+        body: BodyGeometry<'a>,
+        axis: Vec3,
+        opts: &SegmentOptions,
+    ) -> Result<(AxisSlicer<'a>, Option<(Vec3, HeightSort)>), SegmentError> {
+        match body {
+            BodyGeometry::Mesh(_) => Ok((AxisSlicer::new(body, axis, opts, None)?, None)),
+            BodyGeometry::Cloud(c) => {
+                let cloud = CloudSlicer::new(c, axis)?;
+                let slicer = AxisSlicer::new(body, axis, opts, Some(cloud.spacing()))?;
+                Ok((slicer, Some((cloud.axis(), cloud.into_sorted()))))
+            }
+        }
     }
 
     fn range(&self) -> (Real, Real) {
@@ -584,22 +661,32 @@ impl SlabComponents {
             (((hi - lo) / (0.25 * spacing)).ceil() as usize).clamp(1, 4 * points.len().max(1));
         let width = ((hi - lo) / bins as Real).max(Real::MIN_POSITIVE);
         let bin_of = |h: Real| (((h - lo) / width) as usize).min(bins - 1);
+        // Each point's bin and the bins' counts, each bin's points'
+        // indices (in index order), then the points and heights gathered
+        // in that order, side by side on two cores (written in sequence,
+        // no zero-filled arrays first).
         let mut start = vec![0usize; bins + 1];
-        for &h in &heights {
-            start[bin_of(h) + 1] += 1;
-        }
+        let bin: Vec<usize> = heights
+            .iter()
+            .map(|&h| {
+                let b = bin_of(h);
+                start[b + 1] += 1;
+                b
+            })
+            .collect();
         for b in 0..bins {
             start[b + 1] += start[b];
         }
         let mut fill = start.clone();
-        let mut sorted_points = vec![Vec3::ZERO; points.len()];
-        let mut sorted_heights = vec![0.0; points.len()];
-        for (i, &h) in heights.iter().enumerate() {
-            let b = bin_of(h);
-            sorted_points[fill[b]] = points[i];
-            sorted_heights[fill[b]] = h;
+        let mut order = vec![0u32; points.len()];
+        for (i, &b) in bin.iter().enumerate() {
+            order[fill[b]] = i as u32;
             fill[b] += 1;
         }
+        let (sorted_points, sorted_heights): (Vec<Point3>, Vec<Real>) = crate::distance::join(
+            || order.iter().map(|&i| points[i as usize]).collect(),
+            || order.iter().map(|&i| heights[i as usize]).collect(),
+        );
         Ok(SlabComponents {
             axis,
             heights: sorted_heights,
@@ -835,9 +922,24 @@ impl Node {
 }
 
 /// The convex hull of `p` (Andrew's monotone chain), counter-clockwise.
+///
+/// The points are sorted by `x`, then `y`, in IEEE total order: as one
+/// integer key each (the two coordinates' order-preserving bits,
+/// [`height_key`], `x` in the high half), sorted unstably and decoded
+/// back. Keys are equal only for bitwise-equal points, so this is the
+/// order of a stable sort by `(x.total_cmp, y.total_cmp)`; integer
+/// comparisons are several times cheaper than the float comparator (the
+/// slice graph takes the hulls of every slab's components).
 fn convex_hull(p: &[Point2]) -> Vec<Point2> {
-    let mut pts: Vec<Point2> = p.to_vec();
-    pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    let mut keys: Vec<u128> = p
+        .iter()
+        .map(|q| (u128::from(height_key(q.x)) << 64) | u128::from(height_key(q.y)))
+        .collect();
+    keys.sort_unstable();
+    let mut pts: Vec<Point2> = keys
+        .iter()
+        .map(|&k| Vec2::new(from_height_key((k >> 64) as u64), from_height_key(k as u64)))
+        .collect();
     pts.dedup();
     if pts.len() < 3 {
         return pts;
@@ -865,6 +967,13 @@ fn convex_hull(p: &[Point2]) -> Vec<Point2> {
         hull.pop();
     }
     hull
+}
+
+/// The number whose [`height_key`] is `k` (the key's inverse: the same
+/// bits back).
+fn from_height_key(k: u64) -> Real {
+    let b = (k ^ (1 << 63)) as i64;
+    Real::from_bits((b ^ ((((b >> 63) as u64) >> 1) as i64)) as u64)
 }
 
 /// Perimeter of a closed polygon.
@@ -1200,7 +1309,7 @@ pub fn segment(
     };
 
     // 2. Slices.
-    let slicer = AxisSlicer::new(body, axis, opts, None)?;
+    let (slicer, sorted_along_axis) = AxisSlicer::new_sorted(body, axis, opts)?;
     let (mut min, mut max) = slicer.range();
     let n = opts.slices;
     // Plane coordinates shared by all slices (any orthonormal pair ⊥ axis).
@@ -1971,6 +2080,7 @@ pub fn segment(
         landmarks,
         parts,
         warnings,
+        sorted_up: SortedUp::along(sorted_along_axis, up),
     })
 }
 
@@ -2211,13 +2321,14 @@ fn local_geometry(body: BodyGeometry<'_>, centre: Point3, radius: Real) -> Local
     let r2 = radius * radius;
     match body {
         BodyGeometry::Mesh(m) => Local::Mesh(local_mesh(m, centre, radius)),
+        // The points in the ball, in order, over the cores.
         BodyGeometry::Cloud(c) => Local::Cloud(PointCloud {
-            positions: c
-                .positions
-                .iter()
-                .copied()
-                .filter(|p| (*p - centre).norm_squared() <= r2)
-                .collect(),
+            positions: crate::distance::parallel_map(&c.positions, 1 << 15, |run| {
+                run.iter()
+                    .copied()
+                    .filter(|p| (*p - centre).norm_squared() <= r2)
+                    .collect()
+            }),
             normals: None,
         }),
     }
@@ -2269,7 +2380,9 @@ pub fn cut_part_along(
 ///   by their lowest height once; a plane visits only the triangles
 ///   spanning it). Of a cloud, one index of the points sorted by height
 ///   along `up`: a slab `|p·n − c| ≤ t` is a contiguous run found by binary
-///   search.
+///   search. The segmentation's own sort of the cloud (its slicing axis is
+///   `±up`) is that index ([`Segmentation`]'s `sorted_up`), checked to be
+///   this cloud's; the cutter sorts only without it.
 /// * **Other normals** (the arms' own axes): a mesh is cut through the
 ///   triangles with a vertex in the ball of radius `ρ` around the axis
 ///   point; a cloud's slab is the points of that ball found through a
@@ -2295,7 +2408,7 @@ pub struct Cutter<'a> {
     /// Mesh slicers along `up` and `−up` (`None`: the mesh is invalid).
     mesh_slicers: [OnceLock<Option<MeshSlicer<'a>>>; 2],
     /// Cloud indices sorted by height along `up`, and those heights.
-    sorted: OnceLock<(Vec<u32>, Vec<Real>)>,
+    sorted: OnceLock<std::sync::Arc<HeightSort>>,
     grid: OnceLock<BallGrid>,
     /// Meshes: a grid of the vertices, each vertex's triangles (CSR: the
     /// triangles of vertex `v` are `tris[start[v]..start[v + 1]]`) and the
@@ -2612,17 +2725,30 @@ impl<'a> Cutter<'a> {
             _ if !self.reuse => (0..pos.len() as u32).for_each(&mut keep),
             Some(_) => {
                 let up = self.seg.frame.up;
-                let (order, heights) = self.sorted.get_or_init(|| {
-                    let mut keyed: Vec<(u64, u32)> = pos
-                        .iter()
-                        .enumerate()
-                        .map(|(i, p)| (height_key(p.dot(up)), i as u32))
-                        .collect();
-                    sort_keyed(&mut keyed);
-                    let order: Vec<u32> = keyed.iter().map(|k| k.1).collect();
-                    let heights = order.iter().map(|&i| pos[i as usize].dot(up)).collect();
-                    (order, heights)
+                let sorted = self.sorted.get_or_init(|| {
+                    // The segmentation's sort when it is this cloud's
+                    // (checked at its ends and middle), else sorted here.
+                    let same = |s: &HeightSort| {
+                        s.0.len() == pos.len()
+                            && s.1.len() == pos.len()
+                            && [0, pos.len() / 2, pos.len().saturating_sub(1)]
+                                .iter()
+                                .filter(|&&k| k < pos.len())
+                                .all(|&k| {
+                                    pos.get(s.0[k] as usize)
+                                        .is_some_and(|p| p.dot(up) == s.1[k])
+                                })
+                    };
+                    match &self.seg.sorted_up.0 {
+                        Some(s) if same(s) => s.clone(),
+                        _ => {
+                            let mut keyed = keyed_heights(pos, up);
+                            sort_keyed(&mut keyed);
+                            std::sync::Arc::new(sorted_heights(&keyed, pos, up))
+                        }
+                    }
                 });
+                let (order, heights) = (&sorted.0, &sorted.1);
                 // The same slab along `up` (heights along `−up` are the
                 // exact negations), widened by a rounding margin; the exact
                 // test above decides.
@@ -3109,11 +3235,21 @@ fn find_wrist(
     let e2 = dir.cross(e1);
     let count = 40;
     // Cuts at fractions 0.45..0.97 of the arm: (fraction, hull girth, point).
+    // The axis points first (none missing), then the slabs' components
+    // over the cores (independent, in order).
+    let at: Vec<(Real, Point3)> = (0..=count)
+        .map(|i| {
+            let f = 0.45 + 0.52 * i as Real / count as Real;
+            arm.point_and_tangent(f).map(|(p, _)| (f, p))
+        })
+        .collect::<Option<_>>()?;
+    let slices: Vec<Vec<Node>> = crate::distance::parallel_map(&at, 8, |run| {
+        run.iter()
+            .map(|&(_, p)| slicer.nodes_at(p.dot(dir), e1, e2))
+            .collect()
+    });
     let mut cuts: Vec<(Real, Real, Point3)> = Vec::new();
-    for i in 0..=count {
-        let f = 0.45 + 0.52 * i as Real / count as Real;
-        let (p, _) = arm.point_and_tangent(f)?;
-        let nodes = slicer.nodes_at(p.dot(dir), e1, e2);
+    for (&(f, p), nodes) in at.iter().zip(slices) {
         // Hull of every loop near the axis point (fingers count as hand).
         let near: Vec<&Node> = nodes
             .iter()
@@ -3164,6 +3300,125 @@ fn find_wrist(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The slicing's sort handed to the cutter along `up = ±axis`: heights
+    /// ascending and equal to `p·up` for the points in that order, each
+    /// point once; nothing for another `up`.
+    #[test]
+    fn sorted_up_follows_the_axis_either_way() {
+        let mut rng = crate::scanner::Rng::new(5);
+        let points: Vec<Point3> = (0..3000)
+            .map(|k| {
+                // Repeated heights (ties) among random ones.
+                let y = if k % 3 == 0 {
+                    (k % 7) as Real * 0.1
+                } else {
+                    rng.uniform() - 0.5
+                };
+                Vec3::new(rng.uniform(), y, rng.uniform())
+            })
+            .collect();
+        let cloud = PointCloud {
+            positions: points.clone(),
+            normals: None,
+        };
+        let slicer = || CloudSlicer::new(&cloud, Vec3::new(0.1, 1.0, -0.2)).unwrap();
+        let axis = slicer().axis();
+        for up in [axis, -axis] {
+            let got = SortedUp::along(Some((axis, slicer().into_sorted())), up);
+            let (order, heights) = got.0.as_deref().expect("a sort for ±axis");
+            assert!(heights.windows(2).all(|w| w[0] <= w[1]));
+            for (&i, &h) in order.iter().zip(heights) {
+                assert_eq!(points[i as usize].dot(up), h);
+            }
+            let mut seen = order.clone();
+            seen.sort_unstable();
+            assert!(seen.iter().enumerate().all(|(k, &i)| k as u32 == i));
+        }
+        let nearly = Vec3::new(axis.x, axis.y, f64::from_bits(axis.z.to_bits() + 1));
+        for up in [Vec3::X, nearly] {
+            assert!(SortedUp::along(Some((axis, slicer().into_sorted())), up)
+                .0
+                .is_none());
+        }
+    }
+
+    /// The hull from integer keys is the hull of the comparator sort it
+    /// replaced, point for point and bit for bit (duplicates, signed
+    /// zeros, collinear and grid points included); the keys decode to the
+    /// same bits.
+    #[test]
+    fn keyed_hull_is_the_comparator_hull() {
+        let reference = |p: &[Point2]| {
+            let mut pts: Vec<Point2> = p.to_vec();
+            pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+            pts.dedup();
+            if pts.len() < 3 {
+                return pts;
+            }
+            let mut hull: Vec<Point2> = Vec::new();
+            for pass in 0..2 {
+                let start = hull.len();
+                let order: Vec<Point2> = if pass == 0 {
+                    pts.clone()
+                } else {
+                    pts.iter().rev().copied().collect()
+                };
+                for q in order {
+                    while hull.len() >= start + 2 {
+                        let (a, b) = (hull[hull.len() - 2], hull[hull.len() - 1]);
+                        if (b - a).cross(q - a) <= 0.0 {
+                            hull.pop();
+                        } else {
+                            break;
+                        }
+                    }
+                    hull.push(q);
+                }
+                hull.pop();
+            }
+            hull
+        };
+        let bits = |h: &[Point2]| -> Vec<[u64; 2]> {
+            h.iter().map(|p| [p.x.to_bits(), p.y.to_bits()]).collect()
+        };
+        let mut rng = crate::scanner::Rng::new(11);
+        for case in 0..200 {
+            let n = 1 + case % 60;
+            let mut pts: Vec<Point2> = (0..n)
+                .map(|_| match case % 4 {
+                    // On a coarse grid: many duplicates and collinear runs.
+                    0 => Vec2::new(
+                        (4.0 * rng.uniform()).floor() - 2.0,
+                        (3.0 * rng.uniform()).floor() - 1.0,
+                    ),
+                    1 => Vec2::new(rng.uniform() - 0.5, 0.0),
+                    _ => Vec2::new(rng.gaussian(), 0.3 * rng.gaussian()),
+                })
+                .collect();
+            if case % 5 == 0 {
+                pts.push(Vec2::new(-0.0, 0.0));
+                pts.push(Vec2::new(0.0, -0.0));
+            }
+            assert_eq!(
+                bits(&convex_hull(&pts)),
+                bits(&reference(&pts)),
+                "case {case}"
+            );
+        }
+        for x in [
+            0.0,
+            -0.0,
+            1.5,
+            -1.5,
+            1e-300,
+            -1e300,
+            Real::INFINITY,
+            Real::MIN,
+        ] {
+            assert_eq!(from_height_key(height_key(x)).to_bits(), x.to_bits());
+        }
+    }
 
     /// A point is in an arm's tube when nearer its nearest axis point than
     /// the radius there, never at the axis's first point (the shoulder

@@ -166,15 +166,28 @@ fn part_end(part: &Part, start: bool, outward: bool) -> (SpaceCurve, SpaceCurve)
 
 /// The discrete Fourier series of order `order` of equally spaced samples.
 fn dft(values: &[Real], order: usize) -> Series {
-    let n = values.len() as Real;
+    let m = values.len();
+    if m == 0 {
+        return Series::zeros(order);
+    }
+    let n = m as Real;
+    // cos, sin of 2π k / n once: the term (j, i) is entry j i mod n.
+    let table: Vec<(Real, Real)> = (0..m)
+        .map(|k| {
+            let (s, c) = (TAU * k as Real / n).sin_cos();
+            (c, s)
+        })
+        .collect();
     let mut c = vec![0.0; 2 * order + 1];
     c[0] = values.iter().sum::<Real>() / n;
     for j in 1..=order {
         let (mut a, mut b) = (0.0, 0.0);
-        for (i, x) in values.iter().enumerate() {
-            let (s, co) = (TAU * (j * i) as Real / n).sin_cos();
+        let mut k = 0;
+        for x in values {
+            let (co, s) = table[k];
             a += x * co;
             b += x * s;
+            k = (k + j) % m;
         }
         c[2 * j - 1] = 2.0 * a / n;
         c[2 * j] = 2.0 * b / n;

@@ -771,11 +771,19 @@ fn assemble(
                 transition,
             })
     };
-    // Transitions from several parts over the cores, results in order.
+    // Transitions from several parts over the cores, results in order; a
+    // side transition with its RMS distance to the input.
     let build_all = |specs: &[(usize, TransitionSpec)], parts: &[BodyPart]| {
         crate::distance::parallel_map(specs, 1, |run| {
             run.iter()
-                .map(|&(from, spec)| build(from, spec, parts))
+                .map(|&(from, spec)| {
+                    let built = build(from, spec, parts);
+                    let rms = match (&built, spec.side) {
+                        (Ok(t), Some(_)) => transition_rms(&t.transition, input),
+                        _ => 0.0,
+                    };
+                    (built, rms)
+                })
                 .collect()
         })
     };
@@ -789,11 +797,12 @@ fn assemble(
         .collect();
     let leg_centre = |i: usize| parts[i].part.curves()[0].frame.origin;
     let mut closed = legs.len() == 2;
+    let mut leg_specs: Vec<(usize, TransitionSpec)> = Vec::new();
     if legs.len() == 2 {
         let mid = (leg_centre(legs[0]) + leg_centre(legs[1])) * 0.5;
         let point = mid + up * (crotch_level - mid.dot(up));
         let torso_order = parts[ti].part.curves()[0].order();
-        let specs: Vec<(usize, TransitionSpec)> = legs
+        leg_specs = legs
             .iter()
             .map(|&li| {
                 let side = (leg_centre(li) - point).dot(seg.frame.left);
@@ -812,35 +821,6 @@ fn assemble(
                 (li, spec)
             })
             .collect();
-        // The two legs' transitions over the cores.
-        let results = build_all(&specs, parts);
-        for (&(li, _), result) in specs.iter().zip(results) {
-            match result {
-                Ok(t) => out.push(t),
-                Err(e) => {
-                    warnings.push(format!(
-                        "{}: no transition to the torso ({e})",
-                        parts[li].name
-                    ));
-                    closed = false;
-                }
-            }
-        }
-    }
-    if !closed {
-        // Close the torso's bottom flat.
-        let torso = &parts[ti].part;
-        let options = PartOptions {
-            start_cap: CapKind::Flat,
-            ..*torso.options()
-        };
-        match Part::new(torso.sections().to_vec(), &options) {
-            Ok(p) => {
-                parts[ti].part = p;
-                warnings.push("torso: bottom closed flat (no leg transitions)".to_string());
-            }
-            Err(e) => warnings.push(format!("torso: bottom left open ({e})")),
-        }
     }
     // Hanging arms: the arm's first section to the torso's shoulder, cut
     // by the vertical plane through the armpit (the torso's loops above
@@ -884,25 +864,49 @@ fn assemble(
             poor[k] = true;
         }
     }
-    {
-        let results = build_all(&arms, parts);
-        for (&(ai, _), result) in arms.iter().zip(results) {
-            let k = usize::from(parts[ai].name == PartName::RightArm);
-            match result {
-                Ok(t)
-                    if transition_rms(&t.transition, input)
-                        <= ARM_TRANSITION_LIMIT * seg.height =>
-                {
-                    out.push(t)
-                }
-                Ok(_) => poor[k] = true,
-                Err(e) => {
-                    warnings.push(format!(
-                        "{}: no transition to the torso ({e})",
-                        parts[ai].name
-                    ));
-                    poor[k] = true;
-                }
+    // The legs' and the arms' transitions together over the cores (a
+    // flat cap on the torso's bottom does not move its shoulder).
+    let all: Vec<(usize, TransitionSpec)> = leg_specs.iter().chain(&arms).copied().collect();
+    let mut results = build_all(&all, parts).into_iter();
+    for &(li, _) in &leg_specs {
+        match results.next().map(|r| r.0) {
+            Some(Ok(t)) => out.push(t),
+            Some(Err(e)) => {
+                warnings.push(format!(
+                    "{}: no transition to the torso ({e})",
+                    parts[li].name
+                ));
+                closed = false;
+            }
+            None => closed = false,
+        }
+    }
+    if !closed {
+        // Close the torso's bottom flat.
+        let torso = &parts[ti].part;
+        let options = PartOptions {
+            start_cap: CapKind::Flat,
+            ..*torso.options()
+        };
+        match Part::new(torso.sections().to_vec(), &options) {
+            Ok(p) => {
+                parts[ti].part = p;
+                warnings.push("torso: bottom closed flat (no leg transitions)".to_string());
+            }
+            Err(e) => warnings.push(format!("torso: bottom left open ({e})")),
+        }
+    }
+    for (&(ai, _), (result, rms)) in arms.iter().zip(results) {
+        let k = usize::from(parts[ai].name == PartName::RightArm);
+        match result {
+            Ok(t) if rms <= ARM_TRANSITION_LIMIT * seg.height => out.push(t),
+            Ok(_) => poor[k] = true,
+            Err(e) => {
+                warnings.push(format!(
+                    "{}: no transition to the torso ({e})",
+                    parts[ai].name
+                ));
+                poor[k] = true;
             }
         }
     }

@@ -1315,6 +1315,7 @@ mod tests {
                 end: LandmarkKind::LeftHandTip,
             }],
             warnings: Vec::new(),
+            sorted_up: Default::default(),
         };
         let stadium = |z: Real, half: Real| {
             let points: Vec<Point3> = (0..400)

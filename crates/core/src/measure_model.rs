@@ -1107,7 +1107,7 @@ fn arm_torso_overlap(
 /// plane into the transition: that part of the torso's solid and skin is
 /// counted twice by the sums over parts. Its volume is `∫ A(z) dz` over
 /// the torso's horizontal curves between the lowest and highest points of
-/// the transition's curve on the torso (100 levels, midpoint rule),
+/// the transition's curve on the torso (48 levels, midpoint rule),
 /// `A` the area of the curve's 64-gon (scaled to the curve's area) beyond
 /// the plane's line; its surface the torso's quadrature nodes beyond the
 /// plane. Returns `(volume, area)` to subtract. (The transition's own
@@ -1138,7 +1138,7 @@ fn torso_beyond_side(
     };
     let n2 = Vec2::new(n.dot(front), n.dot(left));
     let c = side.point.dot(front) * n2.x + side.point.dot(left) * n2.y;
-    let steps = 100;
+    let steps = 48;
     let dz = (hi - lo) / steps as Real;
     let mut volume = 0.0;
     for k in 0..steps {
@@ -1154,8 +1154,15 @@ fn torso_beyond_side(
         let outline = area_true_outline(&curve, &pts, Vec3::ZERO, front, left);
         volume += clipped_area(&outline, n2, c) * dz;
     }
+    // Only the patches whose centres come within the band (the others'
+    // nodes all fail `beyond`).
+    let margin = 0.5 * (hi - lo);
+    let in_band = |s0: Real, s1: Real| {
+        let (a, b) = (centre(torso, s0).dot(up), centre(torso, s1).dot(up));
+        a.max(b) >= lo - margin && a.min(b) <= hi + margin
+    };
     let mut tables = Tables::default();
-    let area = area_where(torso, &mut tables, |_, _| true, beyond);
+    let area = area_where(torso, &mut tables, in_band, beyond);
     (volume, area)
 }
 

@@ -694,19 +694,20 @@ fn reconstruct_steps(
             crotch_level,
             &input,
             shoulders,
+            opts.units.to_mm(),
             &mut warnings,
         );
-        if !poor.contains(&true) {
+        if poor.iter().all(Option::is_none) {
             break transitions;
         }
         for (k, arm) in [PartName::LeftArm, PartName::RightArm]
             .into_iter()
             .enumerate()
         {
-            if poor[k] {
+            if let Some(why) = &poor[k] {
                 shoulders.side[k] = false;
                 warnings.push(format!(
-                    "{arm}: the shoulder transition was left out; the torso reaches into the arm instead"
+                    "{arm}: the shoulder transition was left out ({why}); the torso reaches into the arm instead"
                 ));
             }
         }
@@ -738,20 +739,21 @@ fn reconstruct_steps(
 /// last section to the head's first where they are apart. Magnitudes are
 /// fitted to the input ([`fit_magnitudes`]). When a leg's transition
 /// cannot be built the torso's bottom gets a flat cap instead, with a
-/// warning. Returns the transitions and, per arm (left, right), whether
-/// its side transition failed or strayed further from the input than
-/// [`ARM_TRANSITION_LIMIT`] (it is then left out, and the caller rebuilds
-/// the torso to reach into that arm instead).
+/// warning. Returns the transitions and, per arm (left, right), why its
+/// side transition was left out, if it was (it could not be built, or it
+/// strayed further from the input than [`ARM_TRANSITION_LIMIT`]; the
+/// caller then rebuilds the torso to reach into that arm instead).
 fn assemble(
     parts: &mut [BodyPart],
     seg: &Segmentation,
     crotch_level: Real,
     input: &InputDistance,
     shoulders: Shoulders,
+    mm_per_unit: Real,
     warnings: &mut Vec<String>,
-) -> (Vec<BodyTransition>, [bool; 2]) {
+) -> (Vec<BodyTransition>, [Option<String>; 2]) {
     let mut out = Vec::new();
-    let mut poor = [false; 2];
+    let mut poor: [Option<String>; 2] = [None, None];
     let up = seg.frame.up;
     let Some(ti) = parts.iter().position(|p| p.name == PartName::Torso) else {
         return (out, poor);
@@ -856,12 +858,15 @@ fn assemble(
             ))
         })
         .collect();
-    // A side arm whose axis line never meets its side plane has no
-    // transition either: the torso must reach into it instead.
-    for (ai, p) in parts.iter().enumerate() {
-        let k = usize::from(p.name == PartName::RightArm);
-        if shoulders.side_of(p.name) && !arms.iter().any(|&(i, _)| i == ai) {
-            poor[k] = true;
+    // A side arm left out of the model, or whose axis line never meets its
+    // side plane, has no transition either: the torso must reach into it
+    // instead.
+    for (k, arm) in [PartName::LeftArm, PartName::RightArm]
+        .into_iter()
+        .enumerate()
+    {
+        if shoulders.side_of(arm) && !arms.iter().any(|&(i, _)| parts[i].name == arm) {
+            poor[k] = Some("no arm, or its axis misses the side plane".to_string());
         }
     }
     // The legs' and the arms' transitions together over the cores (a
@@ -896,18 +901,19 @@ fn assemble(
             Err(e) => warnings.push(format!("torso: bottom left open ({e})")),
         }
     }
+    let limit = ARM_TRANSITION_LIMIT * seg.height;
     for (&(ai, _), (result, rms)) in arms.iter().zip(results) {
         let k = usize::from(parts[ai].name == PartName::RightArm);
         match result {
-            Ok(t) if rms <= ARM_TRANSITION_LIMIT * seg.height => out.push(t),
-            Ok(_) => poor[k] = true,
-            Err(e) => {
-                warnings.push(format!(
-                    "{}: no transition to the torso ({e})",
-                    parts[ai].name
-                ));
-                poor[k] = true;
+            Ok(t) if rms <= limit => out.push(t),
+            Ok(_) => {
+                poor[k] = Some(format!(
+                    "it lay {:.1} mm RMS from the input, over {:.1} mm",
+                    rms * mm_per_unit,
+                    limit * mm_per_unit
+                ))
             }
+            Err(e) => poor[k] = Some(e.to_string()),
         }
     }
     // Neck: torso's last section to the head's first, where apart.

@@ -999,8 +999,9 @@ struct ArmSlice {
     outline: Vec<Vec2>,
 }
 
-/// Where an arm starts inside the torso (the model has no transitions
-/// yet), the overlap is counted twice by the sums over parts. Its volume is
+/// Where an arm without a side transition starts inside the torso (its
+/// first section inside the torso's shoulder loops), the overlap is
+/// counted twice by the sums over parts. Its volume is
 /// `∫ A_in(s) ds` over the arm's sections across its axis, `ds = 0.01 H`,
 /// `A_in` the area of the section (a 10 × 10 grid over its box) inside the
 /// torso's horizontal outline at the point's height; its surface is the

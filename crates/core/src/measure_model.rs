@@ -1092,10 +1092,7 @@ fn arm_torso_overlap(
     };
     let mut tables = Tables::default();
     let area_arm = area_where(arm, &mut tables, |s0, _| s0 <= s_end, |p| table.contains(p));
-    let in_band = |s0: Real, s1: Real| {
-        let (a, b) = (centre(torso, s0).dot(up), centre(torso, s1).dot(up));
-        a.max(b) >= lo - ds && a.min(b) <= hi + ds
-    };
+    let in_band = near_levels(torso, up, lo - ds, hi + ds);
     let area_torso = area_where(torso, &mut tables, in_band, |p| {
         let lv = p.dot(up);
         lv >= lo && lv <= hi && inside_arm(p)
@@ -1158,17 +1155,15 @@ fn torso_beyond_side(
     // Only the patches whose centres come within the band (the others'
     // nodes all fail `beyond`).
     let margin = 0.5 * (hi - lo);
-    let in_band = |s0: Real, s1: Real| {
-        let (a, b) = (centre(torso, s0).dot(up), centre(torso, s1).dot(up));
-        a.max(b) >= lo - margin && a.min(b) <= hi + margin
-    };
+    let in_band = near_levels(torso, up, lo - margin, hi + margin);
     let mut tables = Tables::default();
     let area = area_where(torso, &mut tables, in_band, beyond);
     (volume, area)
 }
 
 /// The area of a closed polygon on the side `q·n > c` of a line
-/// (Sutherland–Hodgman against one half-plane, then the shoelace formula).
+/// (Sutherland–Hodgman against one half-plane, then the shoelace formula,
+/// [`crate::fit::signed_area`]).
 fn clipped_area(poly: &[Vec2], n: Vec2, c: Real) -> Real {
     let m = poly.len();
     let mut kept: Vec<Vec2> = Vec::with_capacity(m + 2);
@@ -1183,12 +1178,17 @@ fn clipped_area(poly: &[Vec2], n: Vec2, c: Real) -> Real {
             kept.push(Vec2::new(a.x + (b.x - a.x) * w, a.y + (b.y - a.y) * w));
         }
     }
-    let k = kept.len();
-    (0..k)
-        .map(|i| kept[i].x * kept[(i + 1) % k].y - kept[(i + 1) % k].x * kept[i].y)
-        .sum::<Real>()
-        .abs()
-        / 2.0
+    crate::fit::signed_area(&kept).abs()
+}
+
+/// Whether the patch `[s0, s1]` of `part` reaches the levels `[lo, hi]`
+/// along `up` (by its end curves' centres): the `use_segment` of
+/// [`area_where`] for a band of heights.
+fn near_levels(part: &Part, up: Vec3, lo: Real, hi: Real) -> impl Fn(Real, Real) -> bool + '_ {
+    move |s0, s1| {
+        let (a, b) = (centre(part, s0).dot(up), centre(part, s1).dot(up));
+        a.max(b) >= lo && a.min(b) <= hi
+    }
 }
 
 /// `∬ |t_v × t_u|` over the part's patches `[s0, s1]` with

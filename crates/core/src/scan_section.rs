@@ -1370,32 +1370,33 @@ mod tests {
     #[test]
     fn radix_sort_is_the_pair_sort() {
         let mut rng = crate::scanner::Rng::new(3);
-        let mut keyed: Vec<(u64, u32)> = (0..5000)
+        // The radix sort gives the order of the pair sort.
+        let check = |mut keyed: Vec<(u64, u32)>| {
+            let mut expected = keyed.clone();
+            expected.sort_unstable();
+            sort_keyed(&mut keyed);
+            assert_eq!(keyed, expected);
+        };
+        let keyed: Vec<(u64, u32)> = (0..5000)
             .map(|i| {
                 // Heights with repeats and both signs.
                 let h = ((rng.uniform() - 0.5) * 40.0).round() * 0.05;
                 (height_key(h), i)
             })
             .collect();
-        let mut expected = keyed.clone();
-        expected.sort_unstable();
-        sort_keyed(&mut keyed);
-        assert_eq!(keyed, expected);
+        check(keyed);
         // Keys sharing their high 32 bits (heights a millionth of a
         // millimetre apart), in no index order.
-        let mut keyed: Vec<(u64, u32)> = (0..3000u32)
+        let keyed: Vec<(u64, u32)> = (0..3000u32)
             .map(|i| {
                 let h = 1.0 + ((i * 7919) % 37) as Real * 1e-12 - (i % 3) as Real;
                 (height_key(h), i.wrapping_mul(2_654_435_761) % 3001)
             })
             .collect();
-        let mut expected = keyed.clone();
-        expected.sort_unstable();
-        sort_keyed(&mut keyed);
-        assert_eq!(keyed, expected);
+        check(keyed);
         // A body's heights, repeats, both signs and high-bit ties among
         // them, in no index order.
-        let mut keyed: Vec<(u64, u32)> = (0..90_000u32)
+        let keyed: Vec<(u64, u32)> = (0..90_000u32)
             .map(|i| {
                 let h = match i % 4 {
                     0 => (rng.uniform() - 0.45) * 1.8,
@@ -1406,10 +1407,7 @@ mod tests {
                 (height_key(h), i.wrapping_mul(2_654_435_761) % 90_001)
             })
             .collect();
-        let mut expected = keyed.clone();
-        expected.sort_unstable();
-        sort_keyed(&mut keyed);
-        assert_eq!(keyed, expected);
+        check(keyed);
     }
     use crate::assert_near;
     use crate::scanner::Rng;

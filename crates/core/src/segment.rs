@@ -936,36 +936,45 @@ fn convex_hull(p: &[Point2]) -> Vec<Point2> {
         .map(|q| (u128::from(height_key(q.x)) << 64) | u128::from(height_key(q.y)))
         .collect();
     keys.sort_unstable();
-    let mut pts: Vec<Point2> = keys
+    let pts: Vec<Point2> = keys
         .iter()
         .map(|&k| Vec2::new(from_height_key((k >> 64) as u64), from_height_key(k as u64)))
         .collect();
+    monotone_chain(pts)
+}
+
+/// Andrew's monotone chain over points sorted by `x`, then `y`: their
+/// convex hull, counter-clockwise (duplicates dropped first; fewer than
+/// three distinct points are returned as they are).
+fn monotone_chain(mut pts: Vec<Point2>) -> Vec<Point2> {
     pts.dedup();
     if pts.len() < 3 {
         return pts;
     }
     let mut hull: Vec<Point2> = Vec::with_capacity(pts.len() + 1);
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &Point2>> = if pass == 0 {
-            Box::new(pts.iter())
-        } else {
-            Box::new(pts.iter().rev())
-        };
-        for &q in iter {
-            while hull.len() >= start + 2 {
-                let a = hull[hull.len() - 2];
-                let b = hull[hull.len() - 1];
-                if (b - a).cross(q - a) <= 0.0 {
-                    hull.pop();
-                } else {
-                    break;
-                }
+    // One half of the hull: `q` joins after the points that would make a
+    // clockwise (or straight) turn before it are popped, back to `start`.
+    let add = |hull: &mut Vec<Point2>, start: usize, q: Point2| {
+        while hull.len() >= start + 2 {
+            let a = hull[hull.len() - 2];
+            let b = hull[hull.len() - 1];
+            if (b - a).cross(q - a) <= 0.0 {
+                hull.pop();
+            } else {
+                break;
             }
-            hull.push(q);
         }
-        hull.pop();
+        hull.push(q);
+    };
+    for &q in &pts {
+        add(&mut hull, 0, q);
     }
+    hull.pop();
+    let start = hull.len();
+    for &q in pts.iter().rev() {
+        add(&mut hull, start, q);
+    }
+    hull.pop();
     hull
 }
 
@@ -3349,35 +3358,11 @@ mod tests {
     /// same bits.
     #[test]
     fn keyed_hull_is_the_comparator_hull() {
+        // The comparator sort the keys replaced, then the same chain.
         let reference = |p: &[Point2]| {
             let mut pts: Vec<Point2> = p.to_vec();
             pts.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-            pts.dedup();
-            if pts.len() < 3 {
-                return pts;
-            }
-            let mut hull: Vec<Point2> = Vec::new();
-            for pass in 0..2 {
-                let start = hull.len();
-                let order: Vec<Point2> = if pass == 0 {
-                    pts.clone()
-                } else {
-                    pts.iter().rev().copied().collect()
-                };
-                for q in order {
-                    while hull.len() >= start + 2 {
-                        let (a, b) = (hull[hull.len() - 2], hull[hull.len() - 1]);
-                        if (b - a).cross(q - a) <= 0.0 {
-                            hull.pop();
-                        } else {
-                            break;
-                        }
-                    }
-                    hull.push(q);
-                }
-                hull.pop();
-            }
-            hull
+            monotone_chain(pts)
         };
         let bits = |h: &[Point2]| -> Vec<[u64; 2]> {
             h.iter().map(|p| [p.x.to_bits(), p.y.to_bits()]).collect()

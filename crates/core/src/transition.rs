@@ -557,14 +557,33 @@ pub fn side_cut_loop(
 /// a hand's breadth over the shoulder: magnitudes `λ d` of the plain
 /// tangents (as long over the armpit as over the shoulder) looped there.
 pub fn gap_scaled(t: &SpaceCurve, p0: &SpaceCurve, p1: &SpaceCurve, order: usize) -> SpaceCurve {
+    scaled_by_gaps(t, &relative_gaps(p0, p1), order)
+}
+
+/// `|p₁(v) − p₀(v)| / d` at [`HALF_LOOP_SAMPLES`] equally spaced `v`, `d`
+/// the distance between the curves' centres ([`gap_scaled`]; computed
+/// once for both tangents of a transition).
+fn relative_gaps(p0: &SpaceCurve, p1: &SpaceCurve) -> Vec<Real> {
     let d = centre(p0).distance(centre(p1)).max(Real::MIN_POSITIVE);
     let m = HALF_LOOP_SAMPLES;
-    let scaled: Vec<Point3> = (0..m)
+    (0..m)
         .map(|i| {
             let v = TAU * i as Real / m as Real;
-            let g = p1.point(v).distance(p0.point(v));
-            let tv = t.point(v);
-            tv.normalized().map_or(Vec3::ZERO, |u| u * (g / d))
+            p1.point(v).distance(p0.point(v)) / d
+        })
+        .collect()
+}
+
+/// The unit tangent field times `gaps` (at equally spaced `v`), fitted at
+/// `order`.
+fn scaled_by_gaps(t: &SpaceCurve, gaps: &[Real], order: usize) -> SpaceCurve {
+    let m = gaps.len();
+    let scaled: Vec<Point3> = gaps
+        .iter()
+        .enumerate()
+        .map(|(i, &g)| {
+            let tv = t.point(TAU * i as Real / m as Real);
+            tv.normalized().map_or(Vec3::ZERO, |u| u * g)
         })
         .collect();
     fit_space(&scaled, order)
@@ -605,8 +624,9 @@ impl Transition {
         let (p0, t0) = part_end(from, spec.from_start, true);
         if let Some(side) = &spec.side {
             let (p1, t1) = side_cut_loop(to, side, spec.order, &p0)?;
-            let t0 = gap_scaled(&t0, &p0, &p1, spec.order);
-            let t1 = gap_scaled(&t1, &p0, &p1, spec.order);
+            let gaps = relative_gaps(&p0, &p1);
+            let t0 = scaled_by_gaps(&t0, &gaps, spec.order);
+            let t1 = scaled_by_gaps(&t1, &gaps, spec.order);
             return Ok([p0, t0, p1, t1]);
         }
         // Into `to`: against its outward end tangent.

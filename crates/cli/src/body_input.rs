@@ -1,7 +1,7 @@
 //! The one place where a command's body argument becomes what is measured
 //! and drawn:
 //!
-//! * a **model file** (`.json`, version 2 or 3 with a `body` object, as written
+//! * a **model file** (`.json`, version 2 to 5 with a `body` object, as written
 //!   by `trigbody reconstruct`) is read back into a [`Body`] and measured
 //!   from its own curves ([`measure_body`]);
 //! * an **input** (a mesh or a scanned point cloud) is reconstructed first
@@ -18,7 +18,7 @@ use crate::exit::bad;
 use anyhow::Result;
 use std::path::Path;
 use trigbody_core::body::reconstruct_with_progress;
-use trigbody_core::body::{Body, BodyPart, BodyTransition, Units};
+use trigbody_core::body::{Body, BodyCavity, BodyPart, BodyTransition, Units};
 use trigbody_core::measure::{measure_mesh, MeasureOptions, Measurements};
 use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};
 use trigbody_core::segment::{BodyFrame, BodyGeometry, PartName};
@@ -66,7 +66,26 @@ pub fn body_of_model_file(path: &Path) -> Result<Body> {
     })?;
     let names = PartName::ALL;
     let mut parts = Vec::with_capacity(model.parts.len());
+    let mut cavities = Vec::new();
     for p in model.parts {
+        if let Some(host) = &p.cavity_of {
+            let within = names
+                .iter()
+                .copied()
+                .find(|n| part_file_name(*n) == host)
+                .ok_or_else(|| {
+                    bad(format!(
+                        "{file}: part \"{}\" is a cavity of \"{host}\", not a body part",
+                        p.name
+                    ))
+                })?;
+            cavities.push(BodyCavity {
+                within,
+                part: p.part,
+                fits: Vec::new(),
+            });
+            continue;
+        }
         let name = names
             .iter()
             .copied()
@@ -101,6 +120,7 @@ pub fn body_of_model_file(path: &Path) -> Result<Body> {
     }
     Ok(Body {
         transitions,
+        cavities,
         units,
         frame: BodyFrame {
             up: frame.up,

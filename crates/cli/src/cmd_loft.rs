@@ -202,7 +202,11 @@ pub fn run(args: LoftArgs) -> Result<()> {
     let model = Model {
         units: args.units.clone(),
         body: None,
-        parts: vec![ModelPart { name, part }],
+        parts: vec![ModelPart {
+            name,
+            part,
+            cavity_of: None,
+        }],
         transitions: Vec::new(),
     };
     let mut bytes = Vec::new();

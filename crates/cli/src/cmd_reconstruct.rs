@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use trigbody_core::body::{reconstruct_with_progress, Progress, ReconstructOptions, Report, Units};
 use trigbody_core::segment::BodyGeometry;
 use trigbody_core::{Real, TessellationOptions, Vec3};
-use trigbody_io::body_file::{model_of_body, part_file_name, report_json};
+use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, skin_pieces, write_model};
 use trigbody_io::{
@@ -37,7 +37,7 @@ pub struct ReconstructArgs {
     /// A body mesh (.obj, .ply, .stl) or scan (.ply points, .xyz); without
     /// it, the built-in body.
     pub input: Option<PathBuf>,
-    /// The model file to write (JSON, model format version 4).
+    /// The model file to write (JSON, model format version 5).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// A mesh of the model's surface: .glb (one node per part), .obj, .ply, .stl.
@@ -91,10 +91,10 @@ fn parse_direction(s: &str) -> Result<Vec3, String> {
 fn table(r: &Report) -> String {
     let mut t = String::new();
     t.push_str("part        sections  orders min/med/max   worst E_a  worst E_M  met | ellipse E_a  E_M     | params\n");
-    for p in &r.parts {
+    for (p, name) in r.parts.iter().zip(report_part_names(r)) {
         t.push_str(&format!(
             "{:<11} {:>8}  {:>6}/{:>3}/{:>3}     {:>8.3}%  {:>8.3}%  {:>3} | {:>9.2}%  {:>7.2}% | {:>6}\n",
-            part_file_name(p.name),
+            name,
             p.sections,
             p.orders.0,
             p.orders.1,

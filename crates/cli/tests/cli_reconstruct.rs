@@ -65,9 +65,15 @@ fn built_in_body_writes_model_mesh_and_report() {
         assert!(report["distance_mm"][key].as_f64().unwrap() > 0.0);
     }
     assert_eq!(report["input_vertices"], 13380);
-    assert_eq!(report["parts"].as_array().unwrap().len(), 6);
+    // Six parts and the head's cavity (the built-in mesh models the
+    // inside of its mouth).
+    let parts = report["parts"].as_array().unwrap();
+    assert_eq!(parts.len(), 7);
+    assert_eq!(parts[6]["name"], "head_cavity");
+    assert!(stdout.contains("head_cavity"), "{stdout}");
     let model = std::fs::read_to_string(d.join("m.json")).unwrap();
-    assert!(model.contains("\"version\": 4") && model.contains("\"body\""));
+    assert!(model.contains("\"version\": 5") && model.contains("\"body\""));
+    assert!(model.contains("\"cavity_of\": \"head\""));
     assert!(std::fs::metadata(d.join("m.glb")).unwrap().len() > 1000);
     // The model file is read back by `trigbody mesh`.
     trigbody()

@@ -896,8 +896,9 @@ fn part_integrals(part: &Part, up: Vec3, tables: &mut Tables) -> PartIntegrals {
     }
 }
 
-/// Volume and surface area of the model (sum over parts, see the module
-/// doc), and its extent `(low, high)` along `up`.
+/// Volume and surface area of the model (sum over parts and transitions,
+/// see the module doc, less each cavity's volume and plus its area), and
+/// its extent `(low, high)` along `up`.
 pub fn volume_area_extent(body: &Body) -> (Real, Real, (Real, Real)) {
     let up = body.frame.up;
     let mut out = (0.0, 0.0, (Real::INFINITY, Real::NEG_INFINITY));
@@ -913,6 +914,14 @@ pub fn volume_area_extent(body: &Body) -> (Real, Real, (Real, Real)) {
         let (v, a) = transition_integrals(t.transition.patch(), up, &mut tables, &mut out.2);
         out.0 += v;
         out.1 += a;
+    }
+    // A cavity is empty space inside its part: its volume is the body's
+    // less, its surface (the pocket's lining) the body's too. It lies
+    // inside the body, so the extent is the parts'.
+    for c in &body.cavities {
+        let r = part_integrals(&c.part, up, &mut tables);
+        out.0 -= r.volume;
+        out.1 += r.area;
     }
     out
 }
@@ -1625,6 +1634,7 @@ mod tests {
         Body {
             units: Units::Metres,
             transitions: Vec::new(),
+            cavities: Vec::new(),
             frame: BodyFrame {
                 up: Vec3::Y,
                 front: Vec3::Z,
@@ -1760,6 +1770,39 @@ mod tests {
         let exact = TAU * r * len + 2.0 * PI * r * r;
         assert!((a / exact - 1.0).abs() < 1e-6, "{a} vs {exact}");
         assert!(lo.abs() < 1e-12 && (hi - len).abs() < 1e-12, "{lo} {hi}");
+    }
+
+    #[test]
+    fn a_cavity_takes_its_volume_from_the_body_and_adds_its_area() {
+        // A capped cylinder of radius 0.05 and height 0.3 inside the
+        // cylinder body, as its torso's cavity.
+        let (r, len) = (0.15, 0.9);
+        let mut body = cylinder_body(r, len);
+        let (v0, a0, ext0) = volume_area_extent(&body);
+        let (rc, lc) = (0.05, 0.3);
+        let inner = cylinder_body(rc, lc).parts.remove(0).part;
+        let moved: Vec<TrigCurve> = inner
+            .sections()
+            .iter()
+            .map(|c| {
+                let mut c = c.clone();
+                c.frame.origin += Vec3::new(0.02, 0.3, 0.01);
+                c
+            })
+            .collect();
+        let part = Part::new(moved, inner.options()).unwrap();
+        body.cavities.push(crate::body::BodyCavity {
+            within: PartName::Torso,
+            part,
+            fits: Vec::new(),
+        });
+        let (v, a, ext) = volume_area_extent(&body);
+        let cavity_volume = PI * rc * rc * lc;
+        let cavity_area = TAU * rc * lc + 2.0 * PI * rc * rc;
+        assert!(((v0 - v) / cavity_volume - 1.0).abs() < 1e-9, "{v0} {v}");
+        assert!(((a - a0) / cavity_area - 1.0).abs() < 1e-6, "{a0} {a}");
+        assert_eq!(ext, ext0);
+        assert!(body.design_parameters() > cylinder_body(r, len).design_parameters());
     }
 
     #[test]

@@ -219,6 +219,20 @@ impl Mesh {
             .sum()
     }
 
+    /// Turns the mesh inside out: each triangle's winding reversed (`[a, b,
+    /// c]` → `[a, c, b]`) and each normal negated, so the surface faces the
+    /// other way (a cavity's, which faces into the pocket).
+    pub fn flip_orientation(&mut self) {
+        for t in &mut self.triangles {
+            t.swap(1, 2);
+        }
+        if let Some(n) = &mut self.normals {
+            for v in n.iter_mut() {
+                *v = -*v;
+            }
+        }
+    }
+
     /// Signed enclosed volume by the divergence theorem,
     /// V = Σ a·(b×c)/6 over the triangles (positive for a closed,
     /// outward-oriented surface; exact for any origin when closed).
@@ -335,6 +349,22 @@ mod tests {
         let m = unit_cube();
         assert_near!(m.signed_volume(), 1.0, 1e-14);
         assert_near!(m.surface_area(), 6.0, 1e-14);
+    }
+
+    #[test]
+    fn flipping_turns_the_volume_negative_and_back() {
+        let mut m = unit_cube();
+        m.normals = Some(vec![Vec3::new(0.0, 0.0, 1.0); m.positions.len()]);
+        m.flip_orientation();
+        assert_near!(m.signed_volume(), -1.0, 1e-14);
+        assert_near!(m.surface_area(), 6.0, 1e-14);
+        assert_eq!(m.normals.as_ref().unwrap()[0], Vec3::new(0.0, 0.0, -1.0));
+        m.flip_orientation();
+        assert_eq!(m, {
+            let mut c = unit_cube();
+            c.normals = Some(vec![Vec3::new(0.0, 0.0, 1.0); c.positions.len()]);
+            c
+        });
     }
 
     #[test]

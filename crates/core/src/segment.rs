@@ -2465,6 +2465,70 @@ impl<'a> Cutter<'a> {
         outermost: bool,
         opts: &SegmentOptions,
     ) -> Result<PartCut, SegmentError> {
+        let (plane, loops, k) = self.cut_loops(part, at, normal, outermost, opts)?;
+        let (outline, scan_indices) = loops
+            .into_iter()
+            .nth(k)
+            .ok_or(SegmentError::EmptyCut { part, at })?;
+        Ok(PartCut {
+            plane,
+            outline,
+            scan_indices,
+        })
+    }
+
+    /// [`Cutter::cut`] (the largest loop around the axis point), and the
+    /// other loops of the plane nested in it: each one smaller than it
+    /// whose centroid it contains (a pocket of skin inside the part, such
+    /// as a modelled mouth: [`crate::body`]'s cavities). Nested loops of a cloud's slab are
+    /// outlines of occupied cells, not surface: none are returned for a
+    /// cloud.
+    pub fn cut_nested(
+        &self,
+        part: PartName,
+        at: Real,
+        normal: Option<Vec3>,
+        opts: &SegmentOptions,
+    ) -> Result<(PartCut, Vec<SectionLoop>), SegmentError> {
+        let (plane, loops, k) = self.cut_loops(part, at, normal, true, opts)?;
+        let mut outline = None;
+        let mut others = Vec::new();
+        for (i, (l, indices)) in loops.into_iter().enumerate() {
+            if i == k {
+                outline = Some((l, indices));
+            } else {
+                others.push(l);
+            }
+        }
+        let (outline, scan_indices) = outline.ok_or(SegmentError::EmptyCut { part, at })?;
+        let nested = match self.body {
+            BodyGeometry::Mesh(_) => others
+                .into_iter()
+                .filter(|l| l.area < outline.area && outline.contains(l.centroid))
+                .collect(),
+            BodyGeometry::Cloud(_) => Vec::new(),
+        };
+        Ok((
+            PartCut {
+                plane,
+                outline,
+                scan_indices,
+            },
+            nested,
+        ))
+    }
+
+    /// The plane of [`Cutter::cut`], all its loops near the axis point and
+    /// the index of the part's.
+    #[allow(clippy::type_complexity)]
+    fn cut_loops(
+        &self,
+        part: PartName,
+        at: Real,
+        normal: Option<Vec3>,
+        outermost: bool,
+        opts: &SegmentOptions,
+    ) -> Result<(Plane, Vec<(SectionLoop, Option<Vec<usize>>)>, usize), SegmentError> {
         let seg = self.seg;
         let axis = seg.part(part).ok_or(SegmentError::NoSuchPart(part))?;
         let (p, t) = axis
@@ -2492,15 +2556,7 @@ impl<'a> Cutter<'a> {
             _ => crate::section::select_loop(&outlines, p)
                 .ok_or(SegmentError::EmptyCut { part, at })?,
         };
-        let (outline, scan_indices) = loops
-            .into_iter()
-            .nth(k)
-            .ok_or(SegmentError::EmptyCut { part, at })?;
-        Ok(PartCut {
-            plane,
-            outline,
-            scan_indices,
-        })
+        Ok((plane, loops, k))
     }
 
     /// `0` for `n = up`, `1` for `n = −up`, else `None`.

@@ -1,4 +1,4 @@
-//! A reconstructed [`Body`] as a model file (version 4) and its [`Report`]
+//! A reconstructed [`Body`] as a model file (version 5) and its [`Report`]
 //! as JSON.
 
 use crate::model::{Model, ModelBody, ModelPart, ModelTransition};
@@ -22,8 +22,29 @@ pub fn part_file_name(name: PartName) -> &'static str {
     }
 }
 
-/// The model of a body: its parts by name, its frame and height, its units.
+/// The names of cavities in model files and reports, in order: the part's
+/// name and `_cavity` (`head_cavity`), numbered from the second cavity of
+/// the same part on (`head_cavity_2`).
+pub fn cavity_file_names(within: impl IntoIterator<Item = PartName>) -> Vec<String> {
+    let mut seen: Vec<PartName> = Vec::new();
+    within
+        .into_iter()
+        .map(|p| {
+            let k = seen.iter().filter(|&&q| q == p).count();
+            seen.push(p);
+            match k {
+                0 => format!("{}_cavity", part_file_name(p)),
+                _ => format!("{}_cavity_{}", part_file_name(p), k + 1),
+            }
+        })
+        .collect()
+}
+
+/// The model of a body: its parts by name (then its cavities, each
+/// `cavity_of` its part, named by [`cavity_file_names`]), its frame and
+/// height, its units.
 pub fn model_of_body(body: &Body) -> Model {
+    let cavity_names = cavity_file_names(body.cavities.iter().map(|c| c.within));
     Model {
         units: body.units.symbol().to_string(),
         body: Some(ModelBody {
@@ -39,7 +60,18 @@ pub fn model_of_body(body: &Body) -> Model {
             .map(|p| ModelPart {
                 name: part_file_name(p.name).to_string(),
                 part: p.part.clone(),
+                cavity_of: None,
             })
+            .chain(
+                body.cavities
+                    .iter()
+                    .zip(cavity_names)
+                    .map(|(c, name)| ModelPart {
+                        name,
+                        part: c.part.clone(),
+                        cavity_of: Some(part_file_name(c.within).to_string()),
+                    }),
+            )
             .collect(),
         transitions: body
             .transitions
@@ -55,6 +87,22 @@ pub fn model_of_body(body: &Body) -> Model {
 
 fn mm(d: &DistanceMm) -> Value {
     json!({"rms": d.rms, "p95": d.p95, "max": d.max})
+}
+
+/// The names of the report's parts, in order: a part's file name
+/// ([`part_file_name`]), a cavity's as in model files
+/// ([`cavity_file_names`]).
+pub fn report_part_names(report: &Report) -> Vec<String> {
+    let mut cavities =
+        cavity_file_names(report.parts.iter().filter(|p| p.cavity).map(|p| p.name)).into_iter();
+    report
+        .parts
+        .iter()
+        .map(|p| match p.cavity {
+            true => cavities.next().unwrap_or_default(),
+            false => part_file_name(p.name).to_string(),
+        })
+        .collect()
 }
 
 /// The report as JSON: `design_parameters`, `input_vertices`,
@@ -86,8 +134,8 @@ pub fn report_json(report: &Report) -> Value {
         "visible_rms_mm": report.visible_rms_mm,
         "visible_p95_mm": report.visible_p95_mm,
         "interior_area_share": report.interior_area_share,
-        "parts": report.parts.iter().map(|p| json!({
-            "name": part_file_name(p.name),
+        "parts": report.parts.iter().zip(report_part_names(report)).map(|(p, name)| json!({
+            "name": name,
             "sections": p.sections,
             "orders": {"min": p.orders.0, "median": p.orders.1, "max": p.orders.2},
             "worst_ea": p.worst_ea,

@@ -4,7 +4,7 @@
 //! ```json
 //! {
 //!   "format": "trigbody-model",
-//!   "version": 4,
+//!   "version": 5,
 //!   "units": "m",
 //!   "body": { "frame": { "up": [0, 1, 0], "front": [0, 0, 1],
 //!                        "left": [1, 0, 0], "origin": [0, -0.82, 0] },
@@ -52,7 +52,7 @@ use trigbody_core::{
 
 /// The `format` field of every model file.
 pub const MODEL_FORMAT: &str = "trigbody-model";
-/// The model file version this build writes (it reads 1 to 4).
+/// The model file version this build writes (it reads 1 to 5).
 /// Version 2 adds the optional `body` object (the body's frame and height)
 /// and the `transitions` list; a version-1 file reads as a model without
 /// them. Version 3 adds a dome cap's optional `fullness` and `axis`: a
@@ -60,8 +60,10 @@ pub const MODEL_FORMAT: &str = "trigbody-model";
 /// another dome, so it must refuse the file. Version 4 adds a
 /// transition's optional `side` (an arm's transition ending on the
 /// torso's shoulder): a version-3 reader would end it on the torso's end
-/// curve instead.
-pub const MODEL_VERSION: u64 = 4;
+/// curve instead. Version 5 adds a part's optional `cavity_of` (a pocket
+/// of skin inside another part, facing into the pocket): a version-4
+/// reader would take it for a solid part.
+pub const MODEL_VERSION: u64 = 5;
 
 /// A named part of a model.
 #[derive(Clone, Debug, PartialEq)]
@@ -70,6 +72,11 @@ pub struct ModelPart {
     pub name: String,
     /// The skinned part.
     pub part: Part,
+    /// For a cavity (a pocket of skin inside another part, such as a
+    /// modelled mouth: [`trigbody_core::body::BodyCavity`]), the name of
+    /// the part it lies in. Its surface faces into the pocket (tessellated
+    /// turned inside out) and its solid is empty space (version 5).
+    pub cavity_of: Option<String>,
 }
 
 /// A reconstructed body's frame and size (model file version 2 and later).
@@ -117,17 +124,21 @@ pub struct Model {
 impl Model {
     /// Each part, then each transition (named `from-to`, e.g.
     /// `left_leg-torso`), tessellated with `options`, in that order: the
-    /// pieces a GLB writes as nodes, or merges into one mesh.
+    /// pieces a GLB writes as nodes, or merges into one mesh. A cavity's
+    /// surface is turned to face into its pocket.
     pub fn tessellate_pieces(
         &self,
         options: &TessellationOptions,
     ) -> Result<Vec<(String, Mesh)>, PieceError> {
         let mut out = Vec::with_capacity(self.parts.len() + self.transitions.len());
         for p in &self.parts {
-            let mesh = tessellate_part(&p.part, options).map_err(|source| PieceError {
+            let mut mesh = tessellate_part(&p.part, options).map_err(|source| PieceError {
                 part: p.name.clone(),
                 source,
             })?;
+            if p.cavity_of.is_some() {
+                mesh.flip_orientation();
+            }
             out.push((p.name.clone(), mesh));
         }
         for t in &self.transitions {
@@ -165,10 +176,21 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
             .map_or(0.0, |b| b.diagonal())
     });
     let depth = trigbody_core::body::ReconstructOptions::default().skin_depth * scale;
-    let (names, meshes): (Vec<String>, Vec<Mesh>) = pieces.into_iter().unzip();
+    // A cavity lies inside its part and bounds empty space there: it is on
+    // the outer skin whole, and nothing is inside it.
+    let cavity = |name: &str| {
+        model
+            .parts
+            .iter()
+            .any(|p| p.name == name && p.cavity_of.is_some())
+    };
+    let (cavities, solids): (Vec<_>, Vec<_>) =
+        pieces.into_iter().partition(|(name, _)| cavity(name));
+    let (names, meshes): (Vec<String>, Vec<Mesh>) = solids.into_iter().unzip();
     names
         .into_iter()
         .zip(trigbody_core::skin::outer_pieces(&meshes, depth))
+        .chain(cavities)
         .collect()
 }
 
@@ -342,6 +364,8 @@ struct CapsRecord {
 #[derive(Serialize, Deserialize)]
 struct PartRecord {
     name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    cavity_of: Option<String>,
     skinning: SkinningRecord,
     #[serde(default)]
     caps: CapsRecord,
@@ -613,7 +637,23 @@ pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
             part: name.clone(),
             source,
         })?;
-        parts.push(ModelPart { name, part });
+        parts.push(ModelPart {
+            name,
+            part,
+            cavity_of: rec.cavity_of,
+        });
+    }
+    for (i, p) in parts.iter().enumerate() {
+        let Some(host) = &p.cavity_of else { continue };
+        if !parts
+            .iter()
+            .any(|q| q.cavity_of.is_none() && &q.name == host)
+        {
+            return Err(ModelError::Structure {
+                context: format!("part {i} ('{}')", p.name),
+                message: format!("cavity_of names \"{host}\", which is not a part of the model"),
+            });
+        }
     }
     let body = match doc.get("body") {
         None | Some(Value::Null) => None,
@@ -832,6 +872,7 @@ fn model_record(model: &Model) -> ModelRecord<'_> {
             let o = p.part.options();
             PartRecord {
                 name: p.name.clone(),
+                cavity_of: p.cavity_of.clone(),
                 skinning: SkinningRecord {
                     method: o.skinning.name().to_string(),
                     curves_per_patch: o.curves_per_patch,

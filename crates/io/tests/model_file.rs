@@ -42,10 +42,12 @@ fn model(options: &PartOptions) -> Model {
             ModelPart {
                 name: "leg_left".into(),
                 part: Part::new(sections(), options).unwrap(),
+                cavity_of: None,
             },
             ModelPart {
                 name: "tube \"two\"".into(),
                 part: Part::new(sections()[1..4].to_vec(), &PartOptions::default()).unwrap(),
+                cavity_of: None,
             },
         ],
         transitions: Vec::new(),
@@ -144,9 +146,9 @@ fn nan_coefficients_are_refused() {
 
 #[test]
 fn unknown_version_and_format_are_refused() {
-    let err = edit(|d| d["version"] = 5.into()).unwrap_err();
+    let err = edit(|d| d["version"] = 6.into()).unwrap_err();
     assert!(matches!(err, ModelError::UnknownVersion { .. }), "{err}");
-    assert!(err.to_string().contains('4'));
+    assert!(err.to_string().contains('5'));
     let err = edit(|d| d["format"] = "something-else".into()).unwrap_err();
     assert!(matches!(err, ModelError::NotAModel { .. }), "{err}");
 }
@@ -278,7 +280,8 @@ fn version_2_body_frame_round_trips_and_version_1_still_reads() {
     });
     assert_eq!(round_trip(&m), m);
     let v2 = text(&m);
-    assert!(v2.contains("\"version\": 4") && v2.contains("\"transitions\": []"));
+    assert!(v2.contains("\"version\": 5") && v2.contains("\"transitions\": []"));
+    assert!(!v2.contains("cavity_of"), "no cavity: no field");
     // The same document as version 2 (no dome fullness in it) reads alike.
     let mut doc: serde_json::Value = serde_json::from_str(&v2).unwrap();
     doc["version"] = 2.into();
@@ -351,7 +354,7 @@ fn transitions_round_trip_and_bad_ones_are_refused() {
     assert_eq!(back.transitions[2].transition.design_parameters(), 8);
     let t = text(&m);
     assert!(t.contains("\"from_end\": \"end\"") && t.contains("\"seam\""));
-    assert!(t.contains("\"side\"") && t.contains("\"version\": 4"));
+    assert!(t.contains("\"side\"") && t.contains("\"version\": 5"));
     // A side plane that misses the part is refused, naming the transition.
     let mut doc: serde_json::Value = serde_json::from_str(&t).unwrap();
     doc["transitions"][2]["side"]["point"][0] = 10.0.into();
@@ -369,4 +372,62 @@ fn transitions_round_trip_and_bad_ones_are_refused() {
     doc["transitions"][1]["magnitudes"][0] = (-1.0).into();
     let err = read_model(doc.to_string().as_bytes()).unwrap_err();
     assert!(err.to_string().contains("transition 1"), "{err}");
+}
+
+/// A cavity (version 5): a part lying in another one, its surface facing
+/// into the pocket. It round-trips exactly, tessellates turned inside out,
+/// stays whole in the outer skin, and must name a part of the model.
+#[test]
+fn cavities_round_trip_face_inward_and_must_name_their_part() {
+    use trigbody_io::model::{skin_pieces, Skin};
+    let mut m = model(&PartOptions::default());
+    let host = m.parts[0].part.clone();
+    // The host's sections shrunk about their centres to a third: inside it.
+    let inner: Vec<TrigCurve> = host
+        .sections()
+        .iter()
+        .map(|c| {
+            let mut c = c.clone();
+            for s in [&mut c.a, &mut c.b] {
+                for x in s.iter_mut().skip(1) {
+                    *x /= 3.0;
+                }
+            }
+            c
+        })
+        .collect();
+    let options = PartOptions {
+        start_cap: CapKind::dome(),
+        end_cap: CapKind::dome(),
+        ..PartOptions::default()
+    };
+    m.parts.push(ModelPart {
+        name: "leg_left_cavity".into(),
+        part: Part::new(inner, &options).unwrap(),
+        cavity_of: Some("leg_left".into()),
+    });
+    let back = round_trip(&m);
+    assert_eq!(back, m);
+    let t = text(&m);
+    assert!(t.contains("\"cavity_of\": \"leg_left\""), "{t}");
+    // Tessellated, the cavity encloses a negative volume (it faces into
+    // the pocket); the host a positive one.
+    let tess = trigbody_core::TessellationOptions::default();
+    let pieces = m.tessellate_pieces(&tess).unwrap();
+    let cavity = &pieces[2].1;
+    let host_mesh = &pieces[0].1;
+    assert!(cavity.signed_volume() < 0.0, "{}", cavity.signed_volume());
+    assert!(host_mesh.signed_volume() > 0.0);
+    // The outer skin keeps the whole cavity (it lies inside its host).
+    let outer = skin_pieces(&m, pieces.clone(), Skin::Outer);
+    let kept = outer.iter().find(|(n, _)| n == "leg_left_cavity").unwrap();
+    assert_eq!(kept.1.triangles.len(), cavity.triangles.len());
+    // A cavity of a part the model does not have is refused, naming it.
+    let mut doc: serde_json::Value = serde_json::from_str(&t).unwrap();
+    doc["parts"][2]["cavity_of"] = "arm".into();
+    let err = read_model(doc.to_string().as_bytes()).unwrap_err();
+    assert!(
+        err.to_string().contains("leg_left_cavity") && err.to_string().contains("arm"),
+        "{err}"
+    );
 }

@@ -49,7 +49,11 @@
 //!    close the torso's bottom (flat cap instead if one cannot be built).
 //!    Torso and head get one where their end sections are apart (on the
 //!    shared bodies they share the neck's plane, so none is built).
-//! 5. **Report**: design parameters (method.md §7, transitions included)
+//! 5. **Cavities** ([`BodyCavity`], `cavity.rs`): on a mesh, the loops
+//!    nested in the head's horizontal loops (a modelled mouth's inside),
+//!    followed level to level and skinned as a closed pocket: empty space
+//!    inside the head, its surface facing into it.
+//! 6. **Report**: design parameters (method.md §7, transitions included)
 //!    against 3 × the input's vertices, and distances both ways in
 //!    millimetres, coverage of the whole input and of its outer surface
 //!    (see [`Report`]).
@@ -76,9 +80,11 @@ use crate::transition::{fit_magnitudes, Seam, SideCut, Transition, TransitionSpe
 use std::fmt;
 use thiserror::Error;
 
+mod cavity;
 mod plan;
 mod report;
 
+pub use cavity::*;
 use plan::*;
 pub use report::*;
 
@@ -297,26 +303,28 @@ pub struct Body {
     /// close the torso's bottom), and the torso to the head where their
     /// end sections do not coincide.
     pub transitions: Vec<BodyTransition>,
+    /// Pockets of skin inside parts (a modelled mouth, [`BodyCavity`]):
+    /// empty space inside the body, their surfaces facing into it.
+    pub cavities: Vec<BodyCavity>,
 }
 
 impl Body {
     /// Design parameters (method.md §7): every section's coefficients,
     /// origin and frame, plus one height per dome cap (and its fullness and
-    /// axis when not the defaults), plus each
+    /// axis when not the defaults), for the parts and the cavities, plus each
     /// transition's ([`Transition::design_parameters`]: two magnitudes, and
     /// a seam's point and normal).
     pub fn design_parameters(&self) -> usize {
-        let parts: usize = self
-            .parts
-            .iter()
-            .map(|p| {
-                let o = p.part.options();
-                p.part.design_parameters()
-                    + o.start_cap.design_parameters()
-                    + o.end_cap.design_parameters()
-            })
-            .sum();
+        let with_caps = |part: &Part| {
+            let o = part.options();
+            part.design_parameters()
+                + o.start_cap.design_parameters()
+                + o.end_cap.design_parameters()
+        };
+        let parts: usize = self.parts.iter().map(|p| with_caps(&p.part)).sum();
+        let cavities: usize = self.cavities.iter().map(|c| with_caps(&c.part)).sum();
         parts
+            + cavities
             + self
                 .transitions
                 .iter()
@@ -329,15 +337,16 @@ impl Body {
         self.parts.iter().find(|p| p.name == name)
     }
 
-    /// Tessellates every part, then every transition, into one mesh (in
-    /// that order), the pieces taken by the cores as they come free.
+    /// Tessellates every part, then every transition, then every cavity
+    /// into one mesh (in that order), the pieces taken by the cores as they come free.
     pub fn tessellate(&self, options: &TessellationOptions) -> Result<Mesh, ReconstructError> {
         Ok(crate::skin::concatenate(&self.tessellate_pieces(options)?).0)
     }
 
-    /// Every part's tessellation, then every transition's (the pieces of
-    /// [`Body::tessellate`], one mesh each), taken by the cores as they
-    /// come free.
+    /// Every part's tessellation, then every transition's, then every
+    /// cavity's (the pieces of [`Body::tessellate`], one mesh each; a
+    /// cavity's turned to face into the pocket), taken by the cores as
+    /// they come free.
     pub fn tessellate_pieces(
         &self,
         options: &TessellationOptions,
@@ -345,9 +354,11 @@ impl Body {
         enum Piece<'b> {
             Part(&'b BodyPart),
             Transition(&'b BodyTransition),
+            Cavity(&'b BodyCavity),
         }
         let pieces: Vec<Piece> = (self.parts.iter().map(Piece::Part))
             .chain(self.transitions.iter().map(Piece::Transition))
+            .chain(self.cavities.iter().map(Piece::Cavity))
             .collect();
         each_on_cores(&pieces, |piece| match piece {
             Piece::Part(p) => {
@@ -357,6 +368,15 @@ impl Body {
                 })
             }
             Piece::Transition(t) => Ok(t.transition.tessellate_with(options)),
+            Piece::Cavity(c) => tessellate_part(&c.part, options)
+                .map(|mut m| {
+                    m.flip_orientation();
+                    m
+                })
+                .map_err(|source| ReconstructError::Tessellate {
+                    part: c.within,
+                    source,
+                }),
         })
         .into_iter()
         .collect()
@@ -447,8 +467,9 @@ impl Progress<'_> {
 }
 
 /// Steps [`reconstruct_with_progress`] reports: segmenting, sections of
-/// six parts, skinning, refining six parts, transitions, measuring.
-const RECONSTRUCT_STEPS: usize = 16;
+/// six parts, skinning, refining six parts, transitions, cavities,
+/// measuring.
+const RECONSTRUCT_STEPS: usize = 17;
 
 /// [`reconstruct`] calling `progress` as each step starts (segmenting,
 /// each part's sections, skinning, each part's refinement, transitions,
@@ -718,12 +739,33 @@ fn reconstruct_steps(
             }
         }
     };
+    // The head's pockets of skin (a modelled mouth), over the run of its
+    // sections.
+    progress("cavities");
+    let cavities = match parts.iter().find(|p| p.name == PartName::Head) {
+        Some(head) if matches!(body, BodyGeometry::Mesh(_)) => {
+            let (first, last) = (head.fits.first(), head.fits.last());
+            match (first, last) {
+                (Some(a), Some(b)) => find_cavities(
+                    &cutter,
+                    PartName::Head,
+                    (a.at, b.at),
+                    &input,
+                    opts,
+                    &mut warnings,
+                ),
+                _ => Vec::new(),
+            }
+        }
+        _ => Vec::new(),
+    };
     let model = Body {
         units: opts.units,
         frame: seg.frame,
         height: h,
         parts,
         transitions,
+        cavities,
     };
     progress("measuring");
     let report = measure_with(body, &model, &seg0, opts, warnings, &input)?;

@@ -360,7 +360,7 @@ pub(super) const SHOULDER_OVERLAP: Real = 0.015;
 /// and `j` cross, the shorter run of points between them (a small twist of
 /// the outline, e.g. where a mesh's toes touch) is dropped and the fit
 /// retried, at most 8 times.
-fn fit_untangled(points: &[Point3], fo: &FitOptions) -> Result<LoopFit, String> {
+pub(super) fn fit_untangled(points: &[Point3], fo: &FitOptions) -> Result<LoopFit, String> {
     // The fit reports crossing edges in its cleaned list (consecutive
     // duplicates and a repeated closing point dropped): clean alike.
     let mut pts: Vec<Point3> = Vec::with_capacity(points.len());

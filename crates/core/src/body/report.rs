@@ -7,7 +7,10 @@ use crate::skin::ClosedPieces;
 /// Per-part numbers of the [`Report`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct PartReport {
+    /// The part (for a cavity: the part it lies in).
     pub name: PartName,
+    /// True for a cavity ([`BodyCavity`]) of the part `name`.
+    pub cavity: bool,
     pub sections: usize,
     /// Orders used: minimum, median, maximum.
     pub orders: (usize, usize, usize),
@@ -106,16 +109,22 @@ impl Report {
 
 /// The per-part numbers of a body.
 pub fn part_reports(body: &Body) -> Vec<PartReport> {
-    body.parts
+    let parts = body.parts.iter().map(|p| (p.name, false, &p.part, &p.fits));
+    let cavities = body
+        .cavities
         .iter()
-        .map(|p| {
-            let mut orders: Vec<usize> = p.fits.iter().map(|f| f.order).collect();
+        .map(|c| (c.within, true, &c.part, &c.fits));
+    parts
+        .chain(cavities)
+        .map(|(name, cavity, part, fits)| {
+            let mut orders: Vec<usize> = fits.iter().map(|f| f.order).collect();
             orders.sort_unstable();
             let med = orders.get(orders.len() / 2).copied().unwrap_or(0);
-            let fold = |f: &dyn Fn(&SectionFit) -> Real| p.fits.iter().map(f).fold(0.0, Real::max);
+            let fold = |f: &dyn Fn(&SectionFit) -> Real| fits.iter().map(f).fold(0.0, Real::max);
             PartReport {
-                name: p.name,
-                sections: p.fits.len(),
+                name,
+                cavity,
+                sections: fits.len(),
                 orders: (
                     orders.first().copied().unwrap_or(0),
                     med,
@@ -123,10 +132,10 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
                 ),
                 worst_ea: fold(&|f| f.ea),
                 worst_em: fold(&|f| f.em),
-                met: p.fits.iter().filter(|f| f.met).count(),
+                met: fits.iter().filter(|f| f.met).count(),
                 ellipse_worst_ea: fold(&|f| f.ellipse.map_or(0.0, |e| e.0)),
                 ellipse_worst_em: fold(&|f| f.ellipse.map_or(0.0, |e| e.1)),
-                design_parameters: p.part.design_parameters(),
+                design_parameters: part.design_parameters(),
             }
         })
         .collect()
@@ -255,7 +264,12 @@ pub(super) fn measure_with(
                 };
                 (model_samples, d, on, area, samples, count, vis)
             });
-            let closed = scope.spawn(|| ClosedPieces::new(&surface, &pieces));
+            // A cavity's surface lies inside its part's solid and bounds
+            // empty space there: it is on the outer skin (the boundary of
+            // the parts' union less the cavities), and nothing is inside
+            // it. Its pieces (the last ones) are nobody's to the skin.
+            let solids = &pieces[..pieces.len() - model.cavities.len().min(pieces.len())];
+            let closed = scope.spawn(|| ClosedPieces::new(&surface, solids));
             let model_dist = MeshDistance::new(&surface);
             let skin = match closed.join() {
                 Ok(c) => c.outer(&model_dist, opts.skin_depth * model.height),

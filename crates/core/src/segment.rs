@@ -591,12 +591,25 @@ impl<'a> AxisSlicer<'a> {
     }
 
     /// The section's loops at `offset` as nodes (slice index 0, set by the
-    /// caller); none where the plane misses or the slab is too thin.
+    /// caller); none where the plane misses or the slab is too thin. A
+    /// mesh's loop nested in another (a pocket of skin inside a part, such
+    /// as a modelled mouth) is no branch of the body: left out.
     fn nodes_at(&self, offset: Real, e1: Vec3, e2: Vec3) -> Vec<Node> {
         match self {
             AxisSlicer::Mesh(s) => s
                 .section_at(offset)
-                .map(|s| s.loops.iter().map(|l| Node::new(0, l, e1, e2)).collect())
+                .map(|s| {
+                    let nested = |l: &SectionLoop| {
+                        s.loops
+                            .iter()
+                            .any(|o| o.area > l.area && o.contains(l.centroid))
+                    };
+                    s.loops
+                        .iter()
+                        .filter(|l| !nested(l))
+                        .map(|l| Node::new(0, l, e1, e2))
+                        .collect()
+                })
                 .unwrap_or_default(),
             AxisSlicer::Cloud(s) => s.nodes_at(offset, e1, e2),
         }
@@ -2479,8 +2492,10 @@ impl<'a> Cutter<'a> {
 
     /// [`Cutter::cut`] (the largest loop around the axis point), and the
     /// other loops of the plane nested in it: each one smaller than it
-    /// whose centroid it contains (a pocket of skin inside the part, such
-    /// as a modelled mouth: [`crate::body`]'s cavities). Nested loops of a cloud's slab are
+    /// whose centroid it contains, and not itself inside a larger nested
+    /// loop (a pocket of skin inside the part, such as a modelled mouth:
+    /// [`crate::body`]'s cavities; a loop inside the pocket's bounds solid
+    /// again, a tongue or teeth left in). Nested loops of a cloud's slab are
     /// outlines of occupied cells, not surface: none are returned for a
     /// cloud.
     pub fn cut_nested(
@@ -2502,10 +2517,27 @@ impl<'a> Cutter<'a> {
         }
         let (outline, scan_indices) = outline.ok_or(SegmentError::EmptyCut { part, at })?;
         let nested = match self.body {
-            BodyGeometry::Mesh(_) => others
-                .into_iter()
-                .filter(|l| l.area < outline.area && outline.contains(l.centroid))
-                .collect(),
+            BodyGeometry::Mesh(_) => {
+                let inside: Vec<SectionLoop> = others
+                    .into_iter()
+                    .filter(|l| l.area < outline.area && outline.contains(l.centroid))
+                    .collect();
+                // A loop inside another nested loop bounds solid again (a
+                // tongue or teeth left inside a mouth): not a pocket.
+                let depth_one: Vec<bool> = inside
+                    .iter()
+                    .map(|l| {
+                        !inside
+                            .iter()
+                            .any(|o| o.area > l.area && o.contains(l.centroid))
+                    })
+                    .collect();
+                inside
+                    .into_iter()
+                    .zip(depth_one)
+                    .filter_map(|(l, keep)| keep.then_some(l))
+                    .collect()
+            }
             BodyGeometry::Cloud(_) => Vec::new(),
         };
         Ok((

@@ -41,9 +41,12 @@
 //! ([`crate::measure_model`]).
 //!
 //! Only meshes have cavities: a scanner does not see inside a closed
-//! pocket, and a cloud slab's nested outlines are not surface. A closed
-//! shell left inside the head (eyes, teeth) cuts as nested loops too and
-//! is modelled alike.
+//! pocket, and a cloud slab's nested outlines are not surface. A loop
+//! nested in a nested loop (a tongue or teeth left inside the mouth)
+//! bounds solid, not a pocket, and is left out; a closed shell left
+//! inside the head's solid itself (an eyeball) cuts as a nested loop like
+//! a pocket's and is taken for one when it is large enough
+//! ([`MIN_CAVITY_SHARE`]: eyeballs are not).
 
 use super::*;
 use plan::fractions;
@@ -306,4 +309,96 @@ fn build_cavity(
     };
     let part = Part::new(curves, &options).map_err(|e| e.to_string())?;
     Ok(BodyCavity { within, part, fits })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::{merge, stick_body, uv_sphere};
+
+    /// The stick body with a hollow inside its head: a sphere of radius
+    /// `r` turned inside out (a pocket of skin, as a mouth's lining), with
+    /// a small solid sphere inside it (a tongue).
+    fn hollow_head(r: Real) -> Mesh {
+        let centre = Vec3::new(0.0, 0.0, 1.55);
+        let mut pocket = uv_sphere(centre, r, 24, 64);
+        pocket.flip_orientation();
+        let tongue = uv_sphere(centre - Vec3::new(0.0, 0.0, 0.3 * r), 0.3 * r, 12, 32);
+        merge(&[stick_body(1), pocket, tongue])
+    }
+
+    #[test]
+    fn a_hollow_head_has_one_cavity_that_lines_it() {
+        let r = 0.05;
+        let mesh = hollow_head(r);
+        let (body, report) =
+            reconstruct(BodyGeometry::Mesh(&mesh), &ReconstructOptions::default()).unwrap();
+        assert!(!report.warnings.iter().any(|w| w.contains("cavity")));
+        // One cavity (the tongue inside it is solid, not a second one).
+        assert_eq!(body.cavities.len(), 1, "{:?}", report.warnings);
+        let c = &body.cavities[0];
+        assert_eq!(c.within, PartName::Head);
+        assert!(c.fits.len() >= MIN_SECTIONS, "{}", c.fits.len());
+        // Its surface lies on the sphere, and its domes reach the poles.
+        let m = crate::tessellate_part(&c.part, &TessellationOptions::default()).unwrap();
+        let centre = Vec3::new(0.0, 0.0, 1.55);
+        for p in &m.positions {
+            let off = (p.distance(centre) - r).abs();
+            assert!(off < 0.1 * r, "{p:?}: {off}");
+        }
+        let (lo, hi) = m
+            .positions
+            .iter()
+            .fold((1e9, -1e9), |(lo, hi): (Real, Real), p| {
+                (lo.min(p.z), hi.max(p.z))
+            });
+        assert!((lo - (1.55 - r)).abs() < 0.15 * r, "{lo}");
+        assert!((hi - (1.55 + r)).abs() < 0.15 * r, "{hi}");
+        // Its volume is the sphere's within 2 % (measured 0.7 %), and the
+        // tessellation turned inside out encloses it negatively.
+        let v = crate::measure_model::volume_area_extent(&Body {
+            cavities: Vec::new(),
+            transitions: Vec::new(),
+            parts: vec![BodyPart {
+                name: PartName::Head,
+                part: c.part.clone(),
+                fits: Vec::new(),
+            }],
+            ..body.clone()
+        })
+        .0;
+        let sphere = 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        assert!((v / sphere - 1.0).abs() < 0.02, "{v} vs {sphere}");
+        let pieces = body
+            .tessellate_pieces(&TessellationOptions::default())
+            .unwrap();
+        let inside_out = pieces.last().unwrap().signed_volume();
+        assert!((inside_out / sphere + 1.0).abs() < 0.02, "{inside_out}");
+        // Every point of the pocket's lining is near the cavity (the way
+        // back: its poles and its equator alike).
+        let lining = MeshDistance::new(&m);
+        for p in uv_sphere(centre, r, 12, 24).positions {
+            let d = lining.distance(p);
+            assert!(d < 0.1 * r, "{p:?}: {d}");
+        }
+    }
+
+    #[test]
+    fn a_cloud_and_a_solid_head_have_none() {
+        let body = stick_body(1);
+        let (b, _) =
+            reconstruct(BodyGeometry::Mesh(&body), &ReconstructOptions::default()).unwrap();
+        assert!(b.cavities.is_empty());
+        // A scanner sees no pocket inside a head, and a cloud's nested
+        // slab outlines are not surface: none is looked for.
+        let cloud = crate::scanner::virtual_scan(
+            &hollow_head(0.05),
+            &crate::scanner::ScannerOptions::default(),
+        )
+        .unwrap()
+        .cloud;
+        let (b, _) =
+            reconstruct(BodyGeometry::Cloud(&cloud), &ReconstructOptions::default()).unwrap();
+        assert!(b.cavities.is_empty());
+    }
 }

@@ -594,7 +594,7 @@ mod tests {
         let line: Vec<Point3> = (0..50)
             .map(|k| Vec3::new(0.01 * k as Real, 0.0, 0.0))
             .collect();
-        let normals = vec![Vec3::Z; 3];
+        let normals = [Vec3::Z; 3];
         for pts in [&few, &line] {
             let grid = PointGrid::new(pts, 0.1);
             let near = grid.distances(&q);

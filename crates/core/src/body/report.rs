@@ -669,6 +669,19 @@ impl<'a> PointGrid<'a> {
                     for x in clamp(a[0], self.dims[0])..=clamp(b[0], self.dims[0]) {
                         let k = self.key([x, y, z]);
                         let (s, e) = (self.starts[k] as usize, self.starts[k + 1] as usize);
+                        if s == e {
+                            continue;
+                        }
+                        // A cell whose box lies farther than r from the
+                        // run's box holds no candidate (the box distance
+                        // bounds its points').
+                        let c_lo =
+                            self.origin + Vec3::new(x as Real, y as Real, z as Real) * self.cell;
+                        let c_hi = c_lo + Vec3::new(self.cell, self.cell, self.cell);
+                        let apart = (c_lo - hi).max(lo - c_hi).max(Vec3::ZERO);
+                        if apart.norm_squared() > r * r * (1.0 + 1e-9) {
+                            continue;
+                        }
                         for q in &self.sorted[s..e] {
                             let q = Vec3::from(*q);
                             let gap = (lo - q).max(q - hi).max(Vec3::ZERO);

@@ -242,14 +242,23 @@ impl<'g, 'a> CloudSurface<'g, 'a> {
     fn surfels(&self, ids: &[u32]) -> Vec<Option<Surfel>> {
         let mut out = Vec::with_capacity(ids.len());
         let r2 = self.radius * self.radius;
+        // The neighbours' places among the candidates, written without a
+        // branch (each candidate's slot is kept when it is a neighbour),
+        // then their moments in the candidates' order.
+        let mut near: Vec<u32> = Vec::new();
         self.grid
             .for_each_cell_run(ids, self.radius, |run, candidates| {
+                near.resize(candidates.len() + 1, 0);
                 for &i in run {
                     let q = self.grid.point(i);
+                    let mut n = 0;
+                    for (k, &x) in candidates.iter().enumerate() {
+                        near[n] = k as u32;
+                        n += usize::from((x - q).norm_squared() <= r2);
+                    }
                     let mut m = Moments::default();
-                    for &x in candidates {
-                        let d = x - q;
-                        m.add(d, Real::from(u8::from(d.norm_squared() <= r2)));
+                    for &k in &near[..n] {
+                        m.add(candidates[k as usize] - q, 1.0);
                     }
                     out.push(self.fit(i, m));
                 }

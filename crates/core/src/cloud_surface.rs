@@ -82,7 +82,7 @@
 //! (the grid's Morton-ordered, seeded search) and builds one surfel per
 //! distinct nearest point, in the grid's cell order over the cores, the
 //! neighbours of a cell's points picked out of one gathering of that
-//! cell's surroundings ([`PointGrid::for_each_cell_run`]). On the built-in
+//! cell's surroundings (`PointGrid::for_each_cell_run`). On the built-in
 //! body's 200 000-point virtual scan that is about 53 000 surfels for the
 //! report's 60 000 samples (see `docs/reconstruct.md`, "Time", for what
 //! they cost).

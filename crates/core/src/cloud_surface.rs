@@ -222,9 +222,15 @@ impl<'g, 'a> CloudSurface<'g, 'a> {
         }
     }
 
+    /// The surfel of the cloud point nearest `p` (`None`: no point, or
+    /// see the module doc's fallbacks).
+    pub fn surfel_near(&self, p: Point3) -> Option<Surfel> {
+        self.surfel(self.grid.nearest_indices(&[p])[0].1?)
+    }
+
     /// The surfel of the point of index `i` in the grid's order (`None`:
     /// see the module doc's fallbacks).
-    pub fn surfel(&self, i: u32) -> Option<Surfel> {
+    pub(crate) fn surfel(&self, i: u32) -> Option<Surfel> {
         if i as usize >= self.grid.len() || !self.radius.is_finite() {
             return None;
         }
@@ -540,8 +546,7 @@ mod tests {
             .iter()
             .map(|p| p.distance(o))
             .fold(Real::INFINITY, Real::min);
-        let (_, i) = grid.nearest_indices(&[o])[0];
-        let rim = surface.surfel(i.unwrap()).unwrap();
+        let rim = surface.surfel_near(o).unwrap();
         assert!(
             rim.radius > 0.9 * s && rim.radius < 1.3 * s,
             "{}",
@@ -553,8 +558,7 @@ mod tests {
         // Above the hole's centre by h: √(h² + (R − r)²) (the nearest
         // point one of the rim's points at the same distance).
         let h = 3.0 * s;
-        let (_, i) = grid.nearest_indices(&[o + n * h])[0];
-        let rim = surface.surfel(i.unwrap()).unwrap();
+        let rim = surface.surfel_near(o + n * h).unwrap();
         let d = surface.distance(o + n * h);
         let want = (h * h + (nearest - rim.radius).powi(2)).sqrt();
         assert!((d - want).abs() < 1e-9, "{d} {want}");

@@ -598,10 +598,10 @@ mod tests {
         }
     }
 
-    /// Empty clouds, clouds too small for a plane, collinear points, points
-    /// and queries that are not finite, bad spacings and short normal
-    /// arrays fall back to the nearest-point distance (∞ with no point),
-    /// without a panic; the batch equals the single queries.
+    /// Empty clouds, clouds too small for a plane, collinear or coincident
+    /// points, points and queries that are not finite, bad spacings and
+    /// short normal arrays fall back to the nearest-point distance (∞ with
+    /// no point), without a panic.
     #[test]
     fn degenerate_clouds_fall_back_to_the_nearest_point() {
         let q = [Vec3::new(0.1, 0.2, 0.3), Vec3::new(Real::NAN, 0.0, 0.0)];
@@ -615,8 +615,9 @@ mod tests {
         let line: Vec<Point3> = (0..50)
             .map(|k| Vec3::new(0.01 * k as Real, 0.0, 0.0))
             .collect();
+        let same = vec![Vec3::new(0.1, 0.2, 0.25); 20];
         let normals = [Vec3::Z; 3];
-        for pts in [&few, &line] {
+        for pts in [&few, &line, &same] {
             let grid = PointGrid::new(pts, 0.1);
             let near = grid.distances(&q);
             for spacing in [0.01, 0.0, Real::NAN, Real::INFINITY, -1.0] {

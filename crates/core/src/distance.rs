@@ -606,10 +606,10 @@ pub fn distances_to(target: &MeshDistance, points: &[Point3]) -> Vec<Real> {
 /// ([`parallel_map`], at least 4096 points each); the answers come back in
 /// the order of `points`. With `query` exact whatever the state, the
 /// answers are exactly those of querying each point alone.
-pub fn coherent_map<S: Default>(
+pub fn coherent_map<S: Default, R: Copy + Default + Send>(
     points: &[Point3],
-    query: impl Fn(Point3, &mut S) -> Real + Sync,
-) -> Vec<Real> {
+    query: impl Fn(Point3, &mut S) -> R + Sync,
+) -> Vec<R> {
     // A few points (a curve's samples) keep their order: sorting would
     // cost more than it saves.
     let order: Vec<u32> = if points.len() < 4096 {
@@ -623,7 +623,7 @@ pub fn coherent_map<S: Default>(
             .map(|&i| query(points[i as usize], &mut state))
             .collect()
     });
-    let mut out = vec![0.0; points.len()];
+    let mut out = vec![R::default(); points.len()];
     for (&i, d) in order.iter().zip(answers) {
         out[i as usize] = d;
     }

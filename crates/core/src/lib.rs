@@ -15,6 +15,7 @@
 
 pub mod body;
 pub mod cap;
+pub mod cloud_surface;
 pub mod curve;
 pub mod distance;
 pub mod ellipse;

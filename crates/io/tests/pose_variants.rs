@@ -108,13 +108,18 @@ fn scaled(mesh: &Mesh, up: Vec3, across: Real, along: Real) -> Mesh {
 fn row(name: &str, r: &Report) {
     let ok = |b: bool| if b { "met" } else { "NOT met" };
     println!(
-        "{name:<30} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | coverage {:>6.2} % | params {:>5.1} % | targets rms {} p95 {} coverage {}",
+        "{name:<30} parts {}/{} | rms {:>5.2} p95 {:>5.2} max {:>6.1} mm | model->in rms {:>5.2} p95 {:>5.2} | coverage {:>6.2} % (shown surface {:>6.2} %, rms {:>5.2}, p95 {:>5.2}) | params {:>5.1} % | targets rms {} p95 {} coverage {}",
         r.parts.len(),
         r.parts_found.len(),
         r.distance_mm.rms,
         r.distance_mm.p95,
         r.distance_mm.max,
+        r.model_to_input_mm.rms,
+        r.model_to_input_mm.p95,
         100.0 * r.coverage,
+        100.0 * r.visible_coverage,
+        r.visible_rms_mm,
+        r.visible_p95_mm,
         100.0 * r.parameter_ratio(),
         ok(r.distance_mm.rms <= 2.5),
         ok(r.distance_mm.p95 <= 6.0),

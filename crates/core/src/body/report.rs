@@ -1,6 +1,7 @@
 //! The [`Report`]: how well and how compactly a [`Body`] fits its input.
 
 use super::*;
+use crate::cloud_surface::CloudSurface;
 use crate::distance::{coherent_map, sample_surface_on_triangles};
 use crate::skin::ClosedPieces;
 
@@ -60,9 +61,14 @@ pub struct Report {
     /// deeper than [`ReconstructOptions::skin_depth`] left out).
     pub input_to_model_mm: DistanceMm,
     /// Model → input: samples of the model's outer skin to the input's
-    /// surface (mesh) or nearest input point (cloud). The samples are
-    /// those [`ReconstructOptions::report_samples`] spread over all the
-    /// pieces' tessellation that lie on the outer skin (as dense, fewer by
+    /// surface: the mesh, or the surface a cloud samples
+    /// ([`crate::cloud_surface`]: the distance to a least-squares disk of
+    /// the local point spacing's radius at the nearest scan point, at most
+    /// the distance to that point; the distance to the nearest point alone
+    /// has a floor of the point spacing, 1.9 mm RMS for a perfect model of
+    /// a 200 000-point body scan). The samples are those
+    /// [`ReconstructOptions::report_samples`] spread over all the pieces'
+    /// tessellation that lie on the outer skin (as dense, fewer by
     /// [`Report::interior_area_share`]).
     pub model_to_input_mm: DistanceMm,
     /// Share of input samples within [`ReconstructOptions::coverage_mm`]
@@ -86,10 +92,11 @@ pub struct Report {
     /// as [`Report::visible_rms_mm`].
     pub visible_p95_mm: Real,
     /// For a cloud, the model samples over the scan's holes: farther than
-    /// the coverage distance from every scan point, with the nearest scan
-    /// point on a hole's rim ([`crate::holes`]: the soles the body stood
-    /// on, the crown, the crotch). Their distance measures the hole, not
-    /// the model. 0 for a mesh.
+    /// the coverage distance from every scan point (the nearest-point
+    /// distance), with the nearest scan point on a hole's rim
+    /// ([`crate::holes`]: the soles the body stood on, the crown, the
+    /// crotch). Their distance measures the hole, not the model. 0 for a
+    /// mesh.
     pub unobserved_samples: usize,
     /// Share of the pieces' tessellated area lying inside other pieces
     /// (not on the outer skin), left out of both directions.
@@ -244,12 +251,30 @@ pub(super) fn measure_with(
     // taken, those on interior triangles are left out once the outer skin
     // is known. The input mesh's ray-casting hierarchy (for the hidden
     // samples) is built on the first side too.
+    // For a cloud, each sample's distance to the nearest scan point (for
+    // the holes, below) and to the scan's surface ([`crate::cloud_surface`],
+    // starting from that point; the spacing `√(A / N)` from all the
+    // pieces' area `A`, the outer skin's not known yet, and the `N`
+    // points), measured while the skin is found.
     let ((model_samples, out_all, on, area, input_samples, input_count, vis), skin, model_dist) =
         std::thread::scope(|scope| {
             let out = scope.spawn(|| {
                 let (model_samples, on, area) =
                     sample_surface_on_triangles(&surface, opts.report_samples);
-                let d = input.distances(&model_samples);
+                let d: Vec<(Real, Real)> = match (body, input) {
+                    (BodyGeometry::Cloud(c), InputDistance::Cloud(grid)) => {
+                        let nearest = grid.nearest_indices(&model_samples);
+                        let spacing = (area / c.positions.len().max(1) as Real).sqrt();
+                        let surface = CloudSurface::new(grid, c.normals.as_deref(), spacing)
+                            .distances_from(&model_samples, &nearest);
+                        nearest.iter().map(|n| n.0).zip(surface).collect()
+                    }
+                    _ => input
+                        .distances(&model_samples)
+                        .into_iter()
+                        .map(|d| (d, d))
+                        .collect(),
+                };
                 let (samples, count, vis) = match body {
                     BodyGeometry::Mesh(m) => (
                         sample_surface(m, opts.report_samples),
@@ -280,22 +305,24 @@ pub(super) fn measure_with(
                 Err(panic) => std::panic::resume_unwind(panic),
             }
         });
-    let (out_d, out_samples): (Vec<Real>, Vec<Point3>) = out_all
+    let (out_both, out_samples): (Vec<(Real, Real)>, Vec<Point3>) = out_all
         .iter()
         .zip(&on)
         .zip(&model_samples)
         .filter(|((_, &t), _)| skin.outer[t as usize])
         .map(|((d, _), p)| (*d, *p))
         .unzip();
-    // A cloud's holes: the rim test's radius is 4 point spacings, the
-    // spacing `√(A / N)` from the outer skin's area `A` and the `N` points.
+    let (nearest_d, out_d): (Vec<Real>, Vec<Real>) = out_both.into_iter().unzip();
+    // A cloud's holes (found from the nearest-point distances): the rim
+    // test's radius is 4 point spacings, the spacing `√(A / N)` from the
+    // outer skin's area `A` and the `N` points.
     let over_hole = match (body, input) {
         (BodyGeometry::Cloud(c), InputDistance::Cloud(grid)) if !c.positions.is_empty() => {
             let spacing = ((area - skin.dropped_area).max(0.0) / c.positions.len() as Real).sqrt();
             crate::holes::over_holes(
                 grid,
                 &out_samples,
-                &out_d,
+                &nearest_d,
                 opts.coverage_mm / mm,
                 crate::holes::RIM_RADIUS_SPACINGS * spacing,
             )
@@ -381,6 +408,9 @@ pub struct PointGrid<'a> {
     /// system zeroes page by page on first touch, so the cores that fill
     /// it share the touching ([`PointGrid::new`]).
     sorted: Vec<[Real; 3]>,
+    /// The index in [`PointGrid::new`]'s `points` of each of `sorted`
+    /// (a cloud's normals are looked up through it).
+    order: Vec<u32>,
 }
 
 impl<'a> PointGrid<'a> {
@@ -395,6 +425,7 @@ impl<'a> PointGrid<'a> {
             dims,
             starts: vec![0; n + 1],
             sorted: Vec::new(),
+            order: Vec::new(),
         };
         // Each point's cell (`u32::MAX` for a point left out: the grid
         // has at most ~4M cells), over the cores. The grid's origin is the
@@ -433,6 +464,7 @@ impl<'a> PointGrid<'a> {
         crate::distance::par_for_each_mut(&mut grid.sorted, 1 << 15, |k, x| {
             *x = points[order[k] as usize].to_array();
         });
+        grid.order = order;
         grid
     }
 
@@ -556,11 +588,133 @@ impl<'a> PointGrid<'a> {
             .map(|i| Vec3::from(self.sorted[i as usize]))
     }
 
+    /// For each of `points`, the distance to the nearest point and that
+    /// point's index in the grid's order (`None` for an empty cloud or a
+    /// point that is not finite), as [`PointGrid::distances`] finds them
+    /// (the same distances).
+    pub(crate) fn nearest_indices(&self, points: &[Point3]) -> Vec<(Real, Option<u32>)> {
+        coherent_map(points, |p, seed: &mut Option<u32>| {
+            let (d, i) = self.nearest_from(p, *seed);
+            *seed = i;
+            (d, i)
+        })
+    }
+
+    /// The point of index `i` in the grid's order (`i` below
+    /// [`PointGrid::len`]).
+    pub(crate) fn point(&self, i: u32) -> Point3 {
+        Vec3::from(self.sorted[i as usize])
+    }
+
+    /// The index in [`PointGrid::new`]'s `points` of the point of index
+    /// `i` in the grid's order.
+    pub(crate) fn input_index(&self, i: u32) -> usize {
+        self.order[i as usize] as usize
+    }
+
+    /// The number of points indexed (the finite ones).
+    pub fn len(&self) -> usize {
+        self.sorted.len()
+    }
+
+    /// True when no (finite) point is indexed.
+    pub fn is_empty(&self) -> bool {
+        self.sorted.is_empty()
+    }
+
     /// The points within distance `r` of `p`.
     pub fn within(&self, p: Point3, r: Real) -> Vec<Point3> {
         let mut out = Vec::new();
+        self.for_each_within(p, r, |_, q| out.push(q));
+        out
+    }
+
+    /// `f(run, candidates)` for each run of `ids` (indices in the grid's
+    /// order, ascending) lying in one cell, `candidates` the points within
+    /// `r` of the run's bounding box (in the order
+    /// [`PointGrid::for_each_within`] visits them): every point within `r`
+    /// of a run's point is among them (its distance to the box is at most
+    /// its distance to the point, in floating point too: the box's
+    /// coordinate differences are no larger, rounding being monotone). The
+    /// neighbourhoods of many points, each cell's surroundings gathered
+    /// once for all its points. Indices past the grid's points are skipped;
+    /// nothing is called for a radius that is not a finite number ≥ 0.
+    pub(crate) fn for_each_cell_run(
+        &self,
+        ids: &[u32],
+        r: Real,
+        mut f: impl FnMut(&[u32], &[Point3]),
+    ) {
+        if !(r >= 0.0) || !r.is_finite() {
+            return;
+        }
+        let n = self.sorted.len() as u32;
+        let mut candidates = Vec::new();
+        let mut rest = ids;
+        while let Some(&first) = rest.first() {
+            if first >= n {
+                rest = &rest[1..];
+                continue;
+            }
+            // The cell holding `first`: the last whose run starts at or
+            // before it.
+            let k = self.starts.partition_point(|&s| s <= first) - 1;
+            let end = self.starts[k + 1];
+            let (run, tail) = rest.split_at(rest.partition_point(|&i| i < end).max(1));
+            rest = tail;
+            let (lo, hi) = run.iter().fold(
+                (
+                    Vec3::new(Real::INFINITY, Real::INFINITY, Real::INFINITY),
+                    Vec3::new(Real::NEG_INFINITY, Real::NEG_INFINITY, Real::NEG_INFINITY),
+                ),
+                |(lo, hi), &i| {
+                    let q = Vec3::from(self.sorted[i as usize]);
+                    (lo.min(q), hi.max(q))
+                },
+            );
+            candidates.clear();
+            let (a, b) = (
+                self.coords(lo - Vec3::new(r, r, r)),
+                self.coords(hi + Vec3::new(r, r, r)),
+            );
+            let clamp = |v: i64, n: usize| v.clamp(0, n as i64 - 1);
+            for z in clamp(a[2], self.dims[2])..=clamp(b[2], self.dims[2]) {
+                for y in clamp(a[1], self.dims[1])..=clamp(b[1], self.dims[1]) {
+                    for x in clamp(a[0], self.dims[0])..=clamp(b[0], self.dims[0]) {
+                        let k = self.key([x, y, z]);
+                        let (s, e) = (self.starts[k] as usize, self.starts[k + 1] as usize);
+                        if s == e {
+                            continue;
+                        }
+                        // A cell whose box lies farther than r from the
+                        // run's box holds no candidate (the box distance
+                        // bounds its points').
+                        let c_lo =
+                            self.origin + Vec3::new(x as Real, y as Real, z as Real) * self.cell;
+                        let c_hi = c_lo + Vec3::new(self.cell, self.cell, self.cell);
+                        let apart = (c_lo - hi).max(lo - c_hi).max(Vec3::ZERO);
+                        if apart.norm_squared() > r * r * (1.0 + 1e-9) {
+                            continue;
+                        }
+                        for q in &self.sorted[s..e] {
+                            let q = Vec3::from(*q);
+                            let gap = (lo - q).max(q - hi).max(Vec3::ZERO);
+                            if gap.norm_squared() <= r * r {
+                                candidates.push(q);
+                            }
+                        }
+                    }
+                }
+            }
+            f(run, &candidates);
+        }
+    }
+
+    /// `f(i, q)` for every point `q` (index `i` in the grid's order)
+    /// within distance `r` of `p`, cell by cell.
+    pub(crate) fn for_each_within(&self, p: Point3, r: Real, mut f: impl FnMut(u32, Point3)) {
         if self.sorted.is_empty() || !p.is_finite() || !(r >= 0.0) {
-            return out;
+            return;
         }
         let (lo, hi) = (
             self.coords(p - Vec3::new(r, r, r)),
@@ -572,16 +726,15 @@ impl<'a> PointGrid<'a> {
                 for x in clamp(lo[0], self.dims[0])..=clamp(hi[0], self.dims[0]) {
                     let k = self.key([x, y, z]);
                     let (a, b) = (self.starts[k] as usize, self.starts[k + 1] as usize);
-                    out.extend(
-                        self.sorted[a..b]
-                            .iter()
-                            .map(|&q| Vec3::from(q))
-                            .filter(|q| (*q - p).norm_squared() <= r * r),
-                    );
+                    for (i, q) in (a..b).zip(&self.sorted[a..b]) {
+                        let q = Vec3::from(*q);
+                        if (q - p).norm_squared() <= r * r {
+                            f(i as u32, q);
+                        }
+                    }
                 }
             }
         }
-        out
     }
 }
 
@@ -639,6 +792,37 @@ mod tests {
             .collect();
         let single: Vec<Real> = queries.iter().map(|q| grid.nearest(*q)).collect();
         assert_eq!(grid.distances(&queries), single);
+        // The nearest points' indices: the same distances, the indexed
+        // point at that distance.
+        let indexed = grid.nearest_indices(&queries);
+        for ((q, d), (e, i)) in queries.iter().zip(&single).zip(&indexed) {
+            assert_eq!(d, e);
+            assert_eq!(grid.point(i.unwrap()).distance(*q), *d);
+            assert_eq!(pts[grid.input_index(i.unwrap())], grid.point(i.unwrap()));
+        }
+        // Neighbourhoods cell by cell: each run lies in one cell and its
+        // candidates are exactly the points within r of the run's box, in
+        // the order `for_each_within` visits them.
+        let mut ids: Vec<u32> = indexed.iter().filter_map(|(_, i)| *i).collect();
+        ids.sort_unstable();
+        ids.dedup();
+        let mut seen = Vec::new();
+        grid.for_each_cell_run(&ids, 0.07, |run, candidates| {
+            seen.extend_from_slice(run);
+            let cell = |i: u32| grid.key(grid.coords(grid.point(i)));
+            assert!(run.iter().all(|&i| cell(i) == cell(run[0])));
+            for &i in run {
+                let mut near = Vec::new();
+                grid.for_each_within(grid.point(i), 0.07, |_, x| near.push(x));
+                let kept: Vec<Point3> = candidates
+                    .iter()
+                    .copied()
+                    .filter(|x| (*x - grid.point(i)).norm_squared() <= 0.07 * 0.07)
+                    .collect();
+                assert_eq!(kept, near);
+            }
+        });
+        assert_eq!(seen, ids);
         // The nearest point itself, and the points within a radius.
         for q in queries.iter().take(200) {
             let p = grid.nearest_point(*q).unwrap();

@@ -8,6 +8,7 @@ use anyhow::Result;
 use clap::Args;
 use std::path::{Path, PathBuf};
 use trigbody_core::body::PointGrid;
+use trigbody_core::cloud_surface::CloudSurface;
 use trigbody_core::distance::MeshDistance;
 use trigbody_core::Mesh;
 use trigbody_io::{Geometry, ReadOptions, UpAxis};
@@ -41,7 +42,7 @@ pub struct RenderArgs {
     pub supersample: u32,
     /// Colour the drawn surface by its distance to this input, a mesh (each
     /// vertex to the closest point of its surface) or a point cloud (to the
-    /// nearest point), with a colour bar in mm.
+    /// surface it samples, as the report measures), with a colour bar in mm.
     #[arg(long)]
     pub compare: Option<PathBuf>,
     /// Millimetres per input unit, for --compare (1000: the input is in
@@ -146,8 +147,10 @@ fn render_failure(input: &Path, e: RenderError) -> anyhow::Error {
 }
 
 /// The distance in mm from each vertex of `mesh` to the closest point of
-/// `target`'s surface, or to its nearest point for a cloud (NaN where none
-/// is found: drawn grey).
+/// `target`'s surface, or for a cloud to the surface it samples (the
+/// report's [`CloudSurface`], its spacing `√(A/N)` from the drawn
+/// surface's area `A` and the `N` points; NaN where none is found: drawn
+/// grey).
 fn distances_mm(mesh: &Mesh, target: &Geometry, mm_per_unit: f64) -> Vec<f64> {
     match target {
         Geometry::Mesh(t) => {
@@ -167,10 +170,11 @@ fn distances_mm(mesh: &Mesh, target: &Geometry, mm_per_unit: f64) -> Vec<f64> {
                 s.x.max(s.y).max(s.z)
             });
             let grid = PointGrid::new(&c.positions, 0.01 * size);
-            mesh.positions
-                .iter()
-                .map(|&p| {
-                    let d = grid.nearest(p);
+            let spacing = (mesh.surface_area() / c.positions.len().max(1) as f64).sqrt();
+            CloudSurface::new(&grid, c.normals.as_deref(), spacing)
+                .distances(&mesh.positions)
+                .into_iter()
+                .map(|d| {
                     if d.is_finite() {
                         d * mm_per_unit
                     } else {
@@ -190,4 +194,49 @@ fn percentile(values: &[f64], q: f64) -> f64 {
     }
     v.sort_by(f64::total_cmp);
     v[((v.len() - 1) as f64 * q).round() as usize]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trigbody_core::{PointCloud, Vec3};
+
+    /// A unit square in the plane z = 0 as two triangles.
+    fn square() -> Mesh {
+        let p = |x, y| Vec3::new(x, y, 0.0);
+        Mesh::new(
+            vec![p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)],
+            vec![[0, 1, 2], [0, 2, 3]],
+        )
+        .unwrap()
+    }
+
+    /// A cloud colours by the distance to the surface it samples, as the
+    /// report measures: the square's own vertices and a grid over it
+    /// (spacing 0.01) lie on it, though a third of the way between grid
+    /// points is 0.0047 from the nearest one.
+    #[test]
+    fn a_cloud_on_the_surface_measures_zero() {
+        let mut positions = Vec::new();
+        for i in 0..=100 {
+            for j in 0..=100 {
+                positions.push(Vec3::new(i as f64 / 100.0, j as f64 / 100.0, 0.0));
+            }
+        }
+        let cloud = Geometry::Points(PointCloud {
+            positions,
+            normals: None,
+        });
+        let mut mesh = square();
+        mesh.positions
+            .extend([Vec3::new(0.333, 0.667, 0.0), Vec3::new(0.5, 0.5, 0.002)]);
+        let d = distances_mm(&mesh, &cloud, 1000.0);
+        for (p, mm) in mesh.positions.iter().zip(&d) {
+            let expected = 1000.0 * p.z;
+            assert!((mm - expected).abs() < 1e-6, "{p:?}: {mm}");
+        }
+        // The same points against the square as a mesh.
+        let d = distances_mm(&mesh, &Geometry::Mesh(square()), 1000.0);
+        assert!((d[5] - 2.0).abs() < 1e-9 && d[4].abs() < 1e-9, "{d:?}");
+    }
 }

@@ -184,14 +184,20 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
             .iter()
             .any(|p| p.name == name && p.cavity_of.is_some())
     };
-    let (cavities, solids): (Vec<_>, Vec<_>) =
-        pieces.into_iter().partition(|(name, _)| cavity(name));
-    let (names, meshes): (Vec<String>, Vec<Mesh>) = solids.into_iter().unzip();
-    names
+    // The solid pieces moved out in order, trimmed, and put back.
+    let (names, mut meshes): (Vec<String>, Vec<Mesh>) = pieces.into_iter().unzip();
+    let solid: Vec<usize> = (0..names.len()).filter(|&i| !cavity(&names[i])).collect();
+    let solids: Vec<Mesh> = solid
+        .iter()
+        .map(|&i| std::mem::take(&mut meshes[i]))
+        .collect();
+    for (i, trimmed) in solid
         .into_iter()
-        .zip(trigbody_core::skin::outer_pieces(&meshes, depth))
-        .chain(cavities)
-        .collect()
+        .zip(trigbody_core::skin::outer_pieces(&solids, depth))
+    {
+        meshes[i] = trimmed;
+    }
+    names.into_iter().zip(meshes).collect()
 }
 
 /// The pieces of [`Model::tessellate_pieces`] in one mesh (indices

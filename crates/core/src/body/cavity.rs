@@ -230,18 +230,12 @@ fn end_fraction(
     0.5 * (inside + outside)
 }
 
-/// A dome from `curve` reaching the plane through `tip` parallel to it.
+/// A dome from `curve` along its plane's normal reaching the plane through
+/// `tip` parallel to it (the lowest dome, 0.02 radii, where `tip` lies in
+/// `curve`'s own plane).
 fn dome_reaching(curve: &TrigCurve, tip: Point3) -> CapKind {
-    let r = (curve.area().abs() / std::f64::consts::PI).sqrt();
-    let d = (tip - curve.frame.origin)
-        .dot(curve.frame.e1.cross(curve.frame.e2))
-        .abs();
     CapKind::Dome {
-        relative_height: if r > 0.0 {
-            (d / r).clamp(0.02, 4.0)
-        } else {
-            1.0
-        },
+        relative_height: plan::height_to_reach(curve, tip).unwrap_or(0.02),
         fullness: 1.0,
         axis: crate::cap::DomeAxis::Normal,
     }

@@ -740,24 +740,15 @@ fn reconstruct_steps(
         }
     };
     // The head's pockets of skin (a modelled mouth), over the run of its
-    // sections.
+    // sections (meshes only: `find_cavities`).
     progress("cavities");
-    let cavities = match parts.iter().find(|p| p.name == PartName::Head) {
-        Some(head) if matches!(body, BodyGeometry::Mesh(_)) => {
-            let (first, last) = (head.fits.first(), head.fits.last());
-            match (first, last) {
-                (Some(a), Some(b)) => find_cavities(
-                    &cutter,
-                    PartName::Head,
-                    (a.at, b.at),
-                    &input,
-                    opts,
-                    &mut warnings,
-                ),
-                _ => Vec::new(),
-            }
-        }
-        _ => Vec::new(),
+    let head_run = parts
+        .iter()
+        .find(|p| p.name == PartName::Head)
+        .and_then(|h| Some((h.fits.first()?.at, h.fits.last()?.at)));
+    let cavities = match head_run {
+        Some(run) => find_cavities(&cutter, PartName::Head, run, &input, opts, &mut warnings),
+        None => Vec::new(),
     };
     let model = Body {
         units: opts.units,

@@ -755,24 +755,32 @@ fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
     let (Some(tip), Some(last)) = (tip, cuts.last()) else {
         return cap;
     };
-    let c = &last.fit.curve;
+    match height_to_reach(&last.fit.curve, tip) {
+        Some(relative_height) => {
+            let (fullness, axis) = match cap {
+                CapKind::Dome { fullness, axis, .. } => (fullness, axis),
+                _ => (1.0, DomeAxis::Tangent),
+            };
+            CapKind::Dome {
+                relative_height,
+                fullness,
+                axis,
+            }
+        }
+        None => cap,
+    }
+}
+
+/// The relative height of a dome on `c` that reaches the plane through
+/// `tip` parallel to `c`'s: the distance `d` of `tip` from `c`'s plane over
+/// `c`'s mean radius `r = √(A/π)`, clamped to `[0.02, 4]`; `None` unless
+/// both are positive.
+pub(super) fn height_to_reach(c: &TrigCurve, tip: Point3) -> Option<Real> {
     let r = (c.area().abs() / std::f64::consts::PI).sqrt();
     let d = (tip - c.frame.origin)
         .dot(c.frame.e1.cross(c.frame.e2))
         .abs();
-    if r > 0.0 && d > 0.0 {
-        let (fullness, axis) = match cap {
-            CapKind::Dome { fullness, axis, .. } => (fullness, axis),
-            _ => (1.0, DomeAxis::Tangent),
-        };
-        CapKind::Dome {
-            relative_height: (d / r).clamp(0.02, 4.0),
-            fullness,
-            axis,
-        }
-    } else {
-        cap
-    }
+    (r > 0.0 && d > 0.0).then(|| (d / r).clamp(0.02, 4.0))
 }
 
 /// RMS distance to the input of the end dome's surface: 6 × 32 points at

@@ -490,11 +490,10 @@ impl<'a> PointGrid<'a> {
     /// point's nearest point, whose distance bounds it (cells farther away
     /// are skipped).
     pub fn distances(&self, points: &[Point3]) -> Vec<Real> {
-        coherent_map(points, |p, seed: &mut Option<u32>| {
-            let (d, i) = self.nearest_from(p, *seed);
-            *seed = i;
-            d
-        })
+        self.nearest_indices(points)
+            .into_iter()
+            .map(|(d, _)| d)
+            .collect()
     }
 
     /// The distance from `p` to the nearest point and that point's index
@@ -673,39 +672,28 @@ impl<'a> PointGrid<'a> {
                 },
             );
             candidates.clear();
-            let (a, b) = (
-                self.coords(lo - Vec3::new(r, r, r)),
-                self.coords(hi + Vec3::new(r, r, r)),
-            );
-            let clamp = |v: i64, n: usize| v.clamp(0, n as i64 - 1);
-            for z in clamp(a[2], self.dims[2])..=clamp(b[2], self.dims[2]) {
-                for y in clamp(a[1], self.dims[1])..=clamp(b[1], self.dims[1]) {
-                    for x in clamp(a[0], self.dims[0])..=clamp(b[0], self.dims[0]) {
-                        let k = self.key([x, y, z]);
-                        let (s, e) = (self.starts[k] as usize, self.starts[k + 1] as usize);
-                        if s == e {
-                            continue;
-                        }
-                        // A cell whose box lies farther than r from the
-                        // run's box holds no candidate (the box distance
-                        // bounds its points').
-                        let c_lo =
-                            self.origin + Vec3::new(x as Real, y as Real, z as Real) * self.cell;
-                        let c_hi = c_lo + Vec3::new(self.cell, self.cell, self.cell);
-                        let apart = (c_lo - hi).max(lo - c_hi).max(Vec3::ZERO);
-                        if apart.norm_squared() > r * r * (1.0 + 1e-9) {
-                            continue;
-                        }
-                        for q in &self.sorted[s..e] {
-                            let q = Vec3::from(*q);
-                            let gap = (lo - q).max(q - hi).max(Vec3::ZERO);
-                            if gap.norm_squared() <= r * r {
-                                candidates.push(q);
-                            }
-                        }
+            let reach = Vec3::new(r, r, r);
+            self.for_each_cell(lo - reach, hi + reach, |cell, span| {
+                if span.is_empty() {
+                    return;
+                }
+                // A cell whose box lies farther than r from the run's box
+                // holds no candidate (the box distance bounds its points').
+                let c_lo = self.origin
+                    + Vec3::new(cell[0] as Real, cell[1] as Real, cell[2] as Real) * self.cell;
+                let c_hi = c_lo + Vec3::new(self.cell, self.cell, self.cell);
+                let apart = (c_lo - hi).max(lo - c_hi).max(Vec3::ZERO);
+                if apart.norm_squared() > r * r * (1.0 + 1e-9) {
+                    return;
+                }
+                for q in &self.sorted[span] {
+                    let q = Vec3::from(*q);
+                    let gap = (lo - q).max(q - hi).max(Vec3::ZERO);
+                    if gap.norm_squared() <= r * r {
+                        candidates.push(q);
                     }
                 }
-            }
+            });
             f(run, &candidates);
         }
     }
@@ -716,22 +704,36 @@ impl<'a> PointGrid<'a> {
         if self.sorted.is_empty() || !p.is_finite() || !(r >= 0.0) {
             return;
         }
-        let (lo, hi) = (
-            self.coords(p - Vec3::new(r, r, r)),
-            self.coords(p + Vec3::new(r, r, r)),
-        );
+        let reach = Vec3::new(r, r, r);
+        self.for_each_cell(p - reach, p + reach, |_, span| {
+            for (i, q) in span.clone().zip(&self.sorted[span]) {
+                let q = Vec3::from(*q);
+                if (q - p).norm_squared() <= r * r {
+                    f(i as u32, q);
+                }
+            }
+        });
+    }
+
+    /// `f(cell, points)` for every cell of the grid meeting the box
+    /// `[lo, hi]` (clamped to the grid), in z, y, x order: its integer
+    /// coordinates and the range of its points in the grid's order.
+    fn for_each_cell(
+        &self,
+        lo: Point3,
+        hi: Point3,
+        mut f: impl FnMut([i64; 3], std::ops::Range<usize>),
+    ) {
+        let (a, b) = (self.coords(lo), self.coords(hi));
         let clamp = |v: i64, n: usize| v.clamp(0, n as i64 - 1);
-        for z in clamp(lo[2], self.dims[2])..=clamp(hi[2], self.dims[2]) {
-            for y in clamp(lo[1], self.dims[1])..=clamp(hi[1], self.dims[1]) {
-                for x in clamp(lo[0], self.dims[0])..=clamp(hi[0], self.dims[0]) {
+        for z in clamp(a[2], self.dims[2])..=clamp(b[2], self.dims[2]) {
+            for y in clamp(a[1], self.dims[1])..=clamp(b[1], self.dims[1]) {
+                for x in clamp(a[0], self.dims[0])..=clamp(b[0], self.dims[0]) {
                     let k = self.key([x, y, z]);
-                    let (a, b) = (self.starts[k] as usize, self.starts[k + 1] as usize);
-                    for (i, q) in (a..b).zip(&self.sorted[a..b]) {
-                        let q = Vec3::from(*q);
-                        if (q - p).norm_squared() <= r * r {
-                            f(i as u32, q);
-                        }
-                    }
+                    f(
+                        [x, y, z],
+                        self.starts[k] as usize..self.starts[k + 1] as usize,
+                    );
                 }
             }
         }

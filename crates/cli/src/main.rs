@@ -5,6 +5,7 @@
 //! file, line or value), 1 internal failure.
 
 mod body_input;
+mod cmd_corpus;
 mod cmd_fit;
 mod cmd_loft;
 mod cmd_measure;
@@ -57,6 +58,9 @@ enum Command {
     Sections(cmd_sections::SectionsArgs),
     /// Make a virtual multi-view scan (points with normals) of a mesh.
     Scan(cmd_scan::ScanArgs),
+    /// Reconstruct every body of a folder with a manifest.json and judge
+    /// each against its ground truth (surfaces both ways, joint centres).
+    Corpus(cmd_corpus::CorpusArgs),
 }
 
 fn main() -> ExitCode {
@@ -79,6 +83,7 @@ fn main() -> ExitCode {
         Command::PlotSections(args) => cmd_plot_sections::run(args),
         Command::Sections(args) => cmd_sections::run(args),
         Command::Scan(args) => cmd_scan::run(args),
+        Command::Corpus(args) => cmd_corpus::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -15,13 +15,16 @@
 
 pub mod body;
 pub mod cap;
+pub mod cloud_clean;
 pub mod cloud_surface;
+pub mod compare;
 pub mod curve;
 pub mod distance;
 pub mod ellipse;
 pub mod fit;
 pub mod girth;
 pub mod holes;
+pub mod joints;
 pub mod linalg;
 pub mod lsq;
 pub mod math;

@@ -1428,20 +1428,38 @@ pub fn segment(
             }
             multi as Real / total.max(1) as Real
         };
+        // The slices' area centroid as a fraction of the extent: the trunk,
+        // whose sections are the largest, lies above the long thin legs in
+        // every standing pose, raised arms included (0.57-0.60 on the
+        // development bodies, arms down or raised), so the centroid lies
+        // nearer the head.
+        let centroid = {
+            let (mut m, mut mh) = (0.0, 0.0);
+            for (k, (_, loops)) in raw.iter().enumerate() {
+                let a: Real = loops.iter().map(|l| l.area).sum();
+                m += a;
+                mh += a * (k as Real + 0.5) / n as Real;
+            }
+            mh / m.max(Real::MIN_POSITIVE)
+        };
         let low = share(0.02..0.09);
         let high = share(0.91..0.98);
-        if low >= high + 0.5 {
+        // Both ends branch (arms raised above the head): the feet are the
+        // end farther from the area centroid.
+        let both = low >= 0.5 && high >= 0.5 && (low - high).abs() < 0.5;
+        if low >= high + 0.5 || (both && centroid >= 0.53) {
             axis
-        } else if high >= low + 0.5 {
+        } else if high >= low + 0.5 || (both && centroid <= 0.47) {
             raw.reverse();
             -axis
         } else {
             return Err(SegmentError::NotAStandingBody {
                 what: "two feet at either end of the longest axis",
                 why: format!(
-                    "slices with two or more loops: {:.0} % near one end, {:.0} % near the other",
+                    "slices with two or more loops: {:.0} % near one end, {:.0} % near the other, the volume centroid at {:.2} of the extent; pass the up axis",
                     100.0 * low,
-                    100.0 * high
+                    100.0 * high,
+                    centroid
                 ),
             });
         }

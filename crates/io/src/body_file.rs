@@ -117,7 +117,8 @@ pub fn report_part_names(report: &Report) -> Vec<String> {
 /// other pieces, left out of both distance directions: they measure the
 /// model's outer skin, see [`Report::interior_area_share`]), `parts` (per part: sections, orders {min, median, max},
 /// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
-/// worst E_a/E_M, design parameters), `parts_found` and `warnings`.
+/// worst E_a/E_M, design parameters), `parts_found`, `joints` (each joint
+/// centre's name and position in the input's coordinates) and `warnings`.
 pub fn report_json(report: &Report) -> Value {
     json!({
         "design_parameters": report.design_parameters,
@@ -145,6 +146,7 @@ pub fn report_json(report: &Report) -> Value {
             "design_parameters": p.design_parameters,
         })).collect::<Vec<_>>(),
         "parts_found": report.parts_found.iter().map(|p| part_file_name(*p)).collect::<Vec<_>>(),
+        "joints": report.joints.iter().map(|(n, p)| (n.as_str().to_string(), json!(p.to_array()))).collect::<serde_json::Map<_, _>>(),
         "warnings": report.warnings,
     })
 }

@@ -63,6 +63,7 @@
 //! report's distances to millimetres.
 
 use crate::cap::CapKind;
+use crate::cloud_clean::{clean_cloud, CleanOptions};
 use crate::curve::TrigCurve;
 use crate::distance::{each_on_cores, sample_surface, DistanceStats, MeshDistance};
 use crate::fit::{fit_loop, FitOptions, LoopFit};
@@ -196,6 +197,9 @@ pub struct ReconstructOptions {
     /// 0.0003 (0.5 mm on 1.73 m: where two pieces' surfaces nearly
     /// coincide, both stay).
     pub skin_depth: Real,
+    /// A scan's floor and stray points removed before segmentation
+    /// ([`crate::cloud_clean`]; its `up` is taken from `segment.up`).
+    pub clean: CleanOptions,
 }
 
 impl Default for ReconstructOptions {
@@ -219,6 +223,7 @@ impl Default for ReconstructOptions {
             report_edge: 0.003,
             coverage_mm: 5.0,
             skin_depth: 0.0003,
+            clean: CleanOptions::default(),
         }
     }
 }
@@ -489,7 +494,33 @@ pub fn reconstruct_with_progress(
         });
         done += 1;
     };
-    let result = reconstruct_steps(body, opts, &mut progress);
+    let (cleaned, cleaning) = match body {
+        BodyGeometry::Cloud(cloud) => {
+            let copts = CleanOptions {
+                up: opts.segment.up,
+                ..opts.clean
+            };
+            let (c, r) = clean_cloud(cloud, &copts);
+            (Some(c), Some(r))
+        }
+        BodyGeometry::Mesh(_) => (None, None),
+    };
+    let mut opts = *opts;
+    let body = match (&cleaned, &cleaning) {
+        (Some(c), Some(r)) => {
+            if opts.segment.up.is_none() {
+                opts.segment.up = r.floor_normal;
+            }
+            BodyGeometry::Cloud(c)
+        }
+        _ => body,
+    };
+    let mut result = reconstruct_steps(body, &opts, &mut progress);
+    if let (Ok((_, report)), Some(r)) = (&mut result, &cleaning) {
+        let mut w = r.warnings();
+        w.append(&mut report.warnings);
+        report.warnings = w;
+    }
     if result.is_ok() {
         report_progress(Progress {
             stage: "done",

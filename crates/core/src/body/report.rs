@@ -3,6 +3,7 @@
 use super::*;
 use crate::cloud_surface::CloudSurface;
 use crate::distance::{coherent_map, sample_surface_on_triangles};
+use crate::joints::{estimate_joints, JointName};
 use crate::skin::ClosedPieces;
 
 /// Per-part numbers of the [`Report`].
@@ -104,6 +105,9 @@ pub struct Report {
     pub parts: Vec<PartReport>,
     /// Parts the segmentation found (feet included).
     pub parts_found: Vec<PartName>,
+    /// Joint centres estimated from the segmentation
+    /// ([`crate::joints::estimate_joints`]), in the input's coordinates.
+    pub joints: Vec<(JointName, Point3)>,
     pub warnings: Vec<String>,
 }
 
@@ -386,6 +390,7 @@ pub(super) fn measure_with(
         },
         parts: part_reports(model),
         parts_found: seg.parts.iter().map(|p| p.name).collect(),
+        joints: estimate_joints(seg),
         warnings,
     })
 }

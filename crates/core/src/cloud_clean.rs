@@ -208,11 +208,12 @@ fn find_floor(pts: &[Point3], extent: Real, opts: &CleanOptions) -> Option<Floor
 fn floor_along(pts: &[Point3], n: Vec3, extent: Real, cell: Real) -> Option<Floor> {
     let bin = extent / 500.0;
     let (centre, _) = low_band(pts, n, extent, bin)?;
-    // Refit the plane to the points near it, narrowing the band to three
-    // robust deviations (a candidate axis a few degrees off the floor's
-    // normal smears the sheet over many bins).
-    let (mut normal, mut level, mut width) = (n, centre, 0.03 * extent);
-    for _ in 0..6 {
+    // Refit the plane to the points near it, the band then set to three
+    // robust deviations (at least two bins): a candidate axis a few degrees
+    // off the floor's normal holds a strip of the floor in its fullest bin,
+    // and each refit turns the plane towards the floor's.
+    let (mut normal, mut level, mut width) = (n, centre, 1.5 * bin);
+    for _ in 0..8 {
         let band: Vec<Point3> = pts
             .iter()
             .filter(|p| p.is_finite() && (p.dot(normal) - level).abs() <= width)

@@ -17,11 +17,12 @@
 use crate::exit::bad;
 use anyhow::Result;
 use std::path::Path;
-use trigbody_core::body::reconstruct_with_progress;
-use trigbody_core::body::{Body, BodyCavity, BodyPart, BodyTransition, Units};
-use trigbody_core::measure::{measure_mesh, MeasureOptions, Measurements};
-use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};
-use trigbody_core::segment::{BodyFrame, BodyGeometry, PartName};
+use trigbody_core::internals::measure::model::compare_with_mesh;
+use trigbody_core::reconstruct_with_progress;
+use trigbody_core::{measure_body, ModelMeasureOptions};
+use trigbody_core::{measure_mesh, MeasureOptions, Measurements};
+use trigbody_core::{Body, BodyCavity, BodyPart, BodyTransition, Units};
+use trigbody_core::{BodyFrame, BodyGeometry, PartName};
 use trigbody_core::{Mesh, ReconstructOptions, TessellationOptions};
 use trigbody_io::body_file::part_file_name;
 use trigbody_io::model::{merge_pieces, read_model, Model};

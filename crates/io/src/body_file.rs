@@ -3,8 +3,9 @@
 
 use crate::model::{Model, ModelBody, ModelPart, ModelTransition};
 use serde_json::{json, Value};
-use trigbody_core::body::{Body, DistanceMm, Report};
-use trigbody_core::segment::PartName;
+use trigbody_core::internals::body::DistanceMm;
+use trigbody_core::PartName;
+use trigbody_core::{Body, Report};
 
 /// The name a part has in model files and GLB nodes: `torso`, `head`,
 /// `left_arm`, `right_arm`, `left_leg`, `right_leg`, `left_foot`,

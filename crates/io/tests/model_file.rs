@@ -1,6 +1,6 @@
 //! The model file: exact round trips and clear errors for bad input.
 
-use trigbody_core::part::PartError;
+use trigbody_core::PartError;
 use trigbody_core::{CapKind, Frame, Part, PartOptions, Skinning, TrigCurve, Vec3};
 use trigbody_io::model::{read_curves, read_model, write_model, Model, ModelError, ModelPart};
 
@@ -305,7 +305,9 @@ fn version_2_body_frame_round_trips_and_version_1_still_reads() {
 
 #[test]
 fn transitions_round_trip_and_bad_ones_are_refused() {
-    use trigbody_core::transition::{Seam, SideCut, Transition, TransitionSpec};
+    use trigbody_core::internals::surface::transition::{
+        Seam, SideCut, Transition, TransitionSpec,
+    };
     use trigbody_io::model::ModelTransition;
     let mut m = model(&PartOptions::default());
     let (from, to) = (&m.parts[0].part, &m.parts[1].part);

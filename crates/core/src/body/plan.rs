@@ -480,7 +480,7 @@ pub(super) fn cut_to_rounded_end(
     let ts = &ts[..ts.len().saturating_sub(1)];
     // Cut a few planes ahead over the cores, then walk them in order: the
     // cuts past the end (at most one batch) are made and dropped.
-    let batch = std::thread::available_parallelism().map_or(1, |c| c.get().clamp(1, 8));
+    let batch = rayon::current_num_threads().clamp(1, 8);
     for chunk in ts.chunks(batch) {
         let cuts = parallel_map(chunk, 1, |run| {
             run.iter()

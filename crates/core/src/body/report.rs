@@ -256,9 +256,9 @@ pub(super) fn measure_with(
     // starting from that point; the spacing `√(A / N)` from all the
     // pieces' area `A`, the outer skin's not known yet, and the `N`
     // points), measured while the skin is found.
-    let ((model_samples, out_all, on, area, input_samples, input_count, vis), skin, model_dist) =
-        std::thread::scope(|scope| {
-            let out = scope.spawn(|| {
+    let ((model_samples, out_all, on, area, input_samples, input_count, vis), (skin, model_dist)) =
+        rayon::join(
+            || {
                 let (model_samples, on, area) =
                     sample_surface_on_triangles(&surface, opts.report_samples);
                 let d: Vec<(Real, Real)> = match (body, input) {
@@ -288,23 +288,21 @@ pub(super) fn measure_with(
                     ),
                 };
                 (model_samples, d, on, area, samples, count, vis)
-            });
-            // A cavity's surface lies inside its part's solid and bounds
-            // empty space there: it is on the outer skin (the boundary of
-            // the parts' union less the cavities), and nothing is inside
-            // it. Its pieces (the last ones) are nobody's to the skin.
-            let solids = &pieces[..pieces.len() - model.cavities.len().min(pieces.len())];
-            let closed = scope.spawn(|| ClosedPieces::new(&surface, solids));
-            let model_dist = MeshDistance::new(&surface);
-            let skin = match closed.join() {
-                Ok(c) => c.outer(&model_dist, opts.skin_depth * model.height),
-                Err(panic) => std::panic::resume_unwind(panic),
-            };
-            match out.join() {
-                Ok(o) => (o, skin, model_dist),
-                Err(panic) => std::panic::resume_unwind(panic),
-            }
-        });
+            },
+            || {
+                // A cavity's surface lies inside its part's solid and bounds
+                // empty space there: it is on the outer skin (the boundary of
+                // the parts' union less the cavities), and nothing is inside
+                // it. Its pieces (the last ones) are nobody's to the skin.
+                let solids = &pieces[..pieces.len() - model.cavities.len().min(pieces.len())];
+                let (closed, model_dist) = rayon::join(
+                    || ClosedPieces::new(&surface, solids),
+                    || MeshDistance::new(&surface),
+                );
+                let skin = closed.outer(&model_dist, opts.skin_depth * model.height);
+                (skin, model_dist)
+            },
+        );
     let (out_both, out_samples): (Vec<(Real, Real)>, Vec<Point3>) = out_all
         .iter()
         .zip(&on)

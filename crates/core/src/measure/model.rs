@@ -1272,14 +1272,11 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
     if body.parts.is_empty() {
         return Err(MeasureError::NoParts);
     }
-    let up = body.frame.up;
-    let front = body.frame.front;
     let (mut volume, mut area, (low, high)) = volume_area_extent(body);
     let h = high - low;
     if !(h > 0.0) {
         return Err(MeasureError::NoParts);
     }
-    let n = opts.search_levels;
     let torso = body
         .part(PartName::Torso)
         .map(|p| &p.part)
@@ -1287,60 +1284,89 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
             measurement: "chest",
             part: PartName::Torso,
         })?;
-    let head = body.part(PartName::Head).map(|p| &p.part);
-    let leg = [PartName::LeftLeg, PartName::RightLeg]
+    // The arm–torso overlaps (a quarter of the work) beside the landmarks
+    // and girths; subtracted in arm order.
+    let (overlaps, (m, warnings)) = rayon::join(
+        || arm_torso_overlaps(body, torso, h),
+        || {
+            let levels = Levels::new(body, opts, torso, low, h);
+            levels.measurements()
+        },
+    );
+    for (v, s) in overlaps {
+        volume -= v;
+        area -= s;
+    }
+    Ok(Measurements {
+        measurements: m,
+        volume: Comparison {
+            model: volume,
+            mesh: Real::NAN,
+        },
+        surface_area: Comparison {
+            model: area,
+            mesh: Real::NAN,
+        },
+        slice_curves: Vec::new(),
+        slice_spacing: 0.0,
+        warnings,
+    })
+}
+
+/// The volume and area each arm shares with the torso, in arm order.
+fn arm_torso_overlaps(body: &Body, torso: &Part, h: Real) -> Vec<(Real, Real)> {
+    let (up, front) = (body.frame.up, body.frame.front);
+    [PartName::LeftArm, PartName::RightArm]
         .iter()
-        .find_map(|&p| body.part(p).map(|b| &b.part));
-    let arm = [PartName::LeftArm, PartName::RightArm]
-        .iter()
-        .find_map(|&p| body.part(p).map(|b| &b.part));
-    // The arm–torso overlaps (a quarter of the work) on a second core
-    // while the landmarks and girths are found; subtracted in arm order.
-    // (Splitting the parts' integrals over the cores as well made the
-    // median slower on this 2-core machine: 5.44 against 4.46 ms, best
-    // 3.38 against 3.68 ms, 400 runs each; threads woken per call cost
-    // more than they save there.)
-    std::thread::scope(|scope| {
-        let overlaps = scope.spawn(|| {
-            [PartName::LeftArm, PartName::RightArm]
-                .iter()
-                .filter_map(|&a| body.part(a))
-                .map(|a| {
-                    let side = body.transitions.iter().find_map(|t| {
-                        let side = t.transition.spec().side?;
-                        (t.from == a.name && t.to == PartName::Torso)
-                            .then(|| (side, t.transition.curves()[2]))
-                    });
-                    match side {
-                        Some((side, end)) => {
-                            torso_beyond_side(torso, &side, end, up, front, body.frame.left)
-                        }
-                        None => arm_torso_overlap(
-                            torso,
-                            &a.part,
-                            up,
-                            front,
-                            body.frame.left,
-                            high - low,
-                        ),
-                    }
-                })
-                .collect::<Vec<_>>()
-        });
+        .filter_map(|&a| body.part(a))
+        .map(|a| {
+            let side = body.transitions.iter().find_map(|t| {
+                let side = t.transition.spec().side?;
+                (t.from == a.name && t.to == PartName::Torso)
+                    .then(|| (side, t.transition.curves()[2]))
+            });
+            match side {
+                Some((side, end)) => {
+                    torso_beyond_side(torso, &side, end, up, front, body.frame.left)
+                }
+                None => arm_torso_overlap(torso, &a.part, up, front, body.frame.left, h),
+            }
+        })
+        .collect()
+}
+
+/// A girth's index in [`MODEL_GIRTHS`] and the girth, or why it is missing.
+type IndexedGirth = (usize, Result<Girth, MeasureError>);
+
+/// The body and the landmark levels [`measure_body`]'s girths are found
+/// from (levels along `up`; `h` the stature, `low` the soles).
+struct Levels<'a> {
+    body: &'a Body,
+    opts: &'a ModelMeasureOptions,
+    torso: &'a Part,
+    head: Option<&'a Part>,
+    up: Vec3,
+    front: Vec3,
+    low: Real,
+    h: Real,
+    torso_bottom: Real,
+    torso_top: Real,
+    crotch: Real,
+    /// The highest arm's lowest first-section point (`-inf` without arms).
+    armpit: Real,
+}
+
+impl<'a> Levels<'a> {
+    fn new(
+        body: &'a Body,
+        opts: &'a ModelMeasureOptions,
+        torso: &'a Part,
+        low: Real,
+        h: Real,
+    ) -> Levels<'a> {
+        let up = body.frame.up;
         let level = |p: Point3| p.dot(up);
         let first_level = |p: &Part| level(mean_point(&p.curves()[0].world_series()));
-
-        let mut warnings = Vec::new();
-        let mut m = vec![Measurement {
-            name: "stature",
-            kind: MeasurementKind::Height,
-            value: h,
-            iso: Some("stature (body height)"),
-            definition: "extent of the model's surface along its up axis, soles to head top",
-            girth: None,
-        }];
-
-        // Landmarks.
         let torso_bottom = first_level(torso);
         let leg_tops: Vec<Real> = [PartName::LeftLeg, PartName::RightLeg]
             .iter()
@@ -1363,149 +1389,58 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
                     .fold(Real::INFINITY, Real::min)
             })
             .fold(Real::NEG_INFINITY, Real::max);
-        let torso_top = level(centre(torso, torso.length()));
-        // A horizontal level on the trunk: the torso, or the head above it.
-        let trunk = |lv: Real| -> Option<(&Part, Real)> {
-            if lv <= torso_top {
-                s_at_level(torso, up, lv).map(|s| (torso, s))
-            } else {
-                head.and_then(|hd| s_at_level(hd, up, lv).map(|s| (hd, s)))
-            }
-        };
-        let trunk_tape = |lv: Real| trunk(lv).map(|(p, s)| proxies(&curve_at(p, s), up, front).0);
-
-        let mut girths: Vec<(usize, Result<Girth, MeasureError>)> = Vec::new();
-        let horizontal = |i: usize, lv: Option<Real>| -> Result<Girth, MeasureError> {
-            let name = MODEL_GIRTHS[i].name;
-            let lv = lv.ok_or(MeasureError::EmptySection { measurement: name })?;
-            let (p, s) = trunk(lv).ok_or(MeasureError::EmptySection { measurement: name })?;
-            girth_in_plane(p, s, up, front, h, name, opts)
-        };
-        // Neck: around the head's first section.
-        let neck = match head {
-            Some(hd) => {
-                let base = first_level(hd);
-                horizontal(
-                    0,
-                    search(base - 0.03 * h, base + 0.06 * h, n, false, trunk_tape),
-                )
-            }
-            None => Err(MeasureError::MissingPart {
-                measurement: "neck",
-                part: PartName::Head,
-            }),
-        };
-        girths.push((0, neck));
-        if armpit.is_finite() {
-            let chest = armpit - opts.chest_below_armpit * h;
-            girths.push((1, horizontal(1, Some(chest))));
-            let waist = search(
-                crotch + 0.35 * (chest - crotch),
-                crotch + 0.85 * (chest - crotch),
-                n,
-                false,
-                trunk_tape,
-            );
-            girths.push((2, horizontal(2, waist)));
-            let hip = waist.and_then(|w| {
-                search(
-                    (crotch + opts.hip_search_start * h).max(torso_bottom),
-                    w,
-                    n,
-                    true,
-                    trunk_tape,
-                )
-            });
-            girths.push((3, horizontal(3, hip)));
-        } else {
-            warnings.push("chest, waist, hip: no arm, so no armpit level".to_string());
+        Levels {
+            body,
+            opts,
+            torso,
+            head: body.part(PartName::Head).map(|p| &p.part),
+            up,
+            front: body.frame.front,
+            low,
+            h,
+            torso_bottom,
+            torso_top: level(centre(torso, torso.length())),
+            crotch,
+            armpit,
         }
+    }
 
-        // Legs.
-        let w = opts.axis_window * h;
+    /// The level of `p`'s first section's mean point.
+    fn first_level(&self, p: &Part) -> Real {
+        mean_point(&p.curves()[0].world_series()).dot(self.up)
+    }
+
+    /// Every measurement, in the report's order, and the warnings.
+    fn measurements(&self) -> (Vec<Measurement>, Vec<String>) {
+        let mut warnings = Vec::new();
+        let mut m = vec![Measurement {
+            name: "stature",
+            kind: MeasurementKind::Height,
+            value: self.h,
+            iso: Some("stature (body height)"),
+            definition: "extent of the model's surface along its up axis, soles to head top",
+            girth: None,
+        }];
+        let mut girths = self.trunk_girths(&mut warnings);
+        let leg = [PartName::LeftLeg, PartName::RightLeg]
+            .iter()
+            .find_map(|&p| self.body.part(p).map(|b| &b.part));
+        let arm = [PartName::LeftArm, PartName::RightArm]
+            .iter()
+            .find_map(|&p| self.body.part(p).map(|b| &b.part));
         match leg {
-            Some(lg) => {
-                let floor = low;
-                let ankle_lo = s_at_level(lg, up, floor + 0.15 * h);
-                let ankle_hi = s_at_level(lg, up, floor + 0.035 * h);
-                let top =
-                    s_at_level(lg, up, crotch - opts.leg_start_below_crotch * h).unwrap_or(0.0);
-                let radius = |s: Real| {
-                    let ax = limb_axis(lg, s, w, 0.0, lg.length())?;
-                    Some(equivalent_radius(&curve_at(lg, s), ax))
-                };
-                match ankle_lo.zip(ankle_hi) {
-                    Some((a, b)) => {
-                        let ankle = search(a, b, n, false, radius).unwrap_or(b);
-                        let at = |t: Real| top + t * (ankle - top);
-                        let calf = search(at(0.55), at(0.85), n, true, radius).unwrap_or(at(0.7));
-                        for (i, s) in [(4, at(0.1)), (5, at(0.45)), (6, calf), (7, ankle)] {
-                            let name = MODEL_GIRTHS[i].name;
-                            let g = limb_axis(lg, s, w, top, ankle)
-                                .ok_or(MeasureError::EmptySection { measurement: name })
-                                .and_then(|ax| girth_in_plane(lg, s, ax, front, h, name, opts));
-                            girths.push((i, g));
-                        }
-                    }
-                    None => warnings
-                        .push("thigh, knee, calf, ankle: the leg does not reach the ankle".into()),
-                }
-            }
+            Some(lg) => self.leg_girths(lg, &mut girths, &mut warnings),
             None => warnings.push("thigh, knee, calf, ankle, inseam: no leg".into()),
         }
-
-        // Arms.
-        let mut arm_length = None;
-        match arm {
-            Some(a) => {
-                let l = a.length();
-                let tape = |s: Real| {
-                    let ax = limb_axis(a, s, w, 0.0, l)?;
-                    Some(proxies(&curve_at(a, s), ax, front))
-                };
-                // Wrist: the smallest girth followed distally by one 15 % larger.
-                let levels: Vec<(Real, Real, Real)> = (0..2 * n)
-                    .filter_map(|i| {
-                        let s = l * (0.45 + 0.52 * i as Real / (2 * n - 1) as Real);
-                        tape(s).map(|(t, r)| (s, t, r))
-                    })
-                    .collect();
-                let mut wrist = None::<(Real, Real)>;
-                for (k, &(s, t, _)) in levels.iter().enumerate() {
-                    let beyond = levels[k..].iter().map(|x| x.1).fold(0.0, Real::max);
-                    if beyond >= 1.15 * t && wrist.is_none_or(|(_, b)| t < b) {
-                        wrist = Some((s, t));
-                    }
-                }
-                let wrist = match wrist {
-                    Some((s, _)) => s,
-                    None => {
-                        warnings.push("wrist: no hand wider than the wrist found; the arm's narrowest place is used".into());
-                        levels
-                            .iter()
-                            .min_by(|x, y| x.1.total_cmp(&y.1))
-                            .map_or(0.75 * l, |x| x.0)
-                    }
-                };
-                arm_length = Some(wrist);
-                let at = |t: Real| t * wrist;
-                let forearm = search(at(0.62), at(0.8), n, true, |s| {
-                    let ax = limb_axis(a, s, w, 0.0, l)?;
-                    Some(equivalent_radius(&curve_at(a, s), ax))
-                })
-                .unwrap_or(at(0.7));
-                for (i, s) in [(8, at(0.28)), (9, at(0.56)), (10, forearm), (11, wrist)] {
-                    let name = MODEL_GIRTHS[i].name;
-                    let g = limb_axis(a, s, w, 0.0, wrist)
-                        .ok_or(MeasureError::EmptySection { measurement: name })
-                        .and_then(|ax| girth_in_plane(a, s, ax, front, h, name, opts));
-                    girths.push((i, g));
-                }
+        let arm_length = match arm {
+            Some(a) => Some(self.arm_girths(a, &mut girths, &mut warnings)),
+            None => {
+                warnings.push(
+                    "upper arm, elbow, forearm, wrist, arm length, shoulder breadth: no arm".into(),
+                );
+                None
             }
-            None => warnings.push(
-                "upper arm, elbow, forearm, wrist, arm length, shoulder breadth: no arm".into(),
-            ),
-        }
+        };
         girths.sort_by_key(|g| g.0);
         for (i, g) in girths {
             let d = &MODEL_GIRTHS[i];
@@ -1521,60 +1456,222 @@ pub fn measure_body(body: &Body, opts: &ModelMeasureOptions) -> Result<Measureme
                 Err(e) => warnings.push(format!("{}: {e}", d.name)),
             }
         }
-        if leg.is_some() {
+        self.push_lengths(leg.is_some(), arm_length, &mut m, &mut warnings);
+        (m, warnings)
+    }
+
+    /// A horizontal level on the trunk: the torso, or the head above it.
+    fn trunk(&self, lv: Real) -> Option<(&'a Part, Real)> {
+        if lv <= self.torso_top {
+            s_at_level(self.torso, self.up, lv).map(|s| (self.torso, s))
+        } else {
+            self.head
+                .and_then(|hd| s_at_level(hd, self.up, lv).map(|s| (hd, s)))
+        }
+    }
+
+    /// The tape proxy of the trunk's horizontal section at `lv`.
+    fn trunk_tape(&self, lv: Real) -> Option<Real> {
+        self.trunk(lv)
+            .map(|(p, s)| proxies(&curve_at(p, s), self.up, self.front).0)
+    }
+
+    /// Girth `i` of [`MODEL_GIRTHS`] in the trunk's horizontal plane at `lv`.
+    fn horizontal(&self, i: usize, lv: Option<Real>) -> Result<Girth, MeasureError> {
+        let name = MODEL_GIRTHS[i].name;
+        let lv = lv.ok_or(MeasureError::EmptySection { measurement: name })?;
+        let (p, s) = self
+            .trunk(lv)
+            .ok_or(MeasureError::EmptySection { measurement: name })?;
+        self.girth(p, s, self.up, name)
+    }
+
+    /// The model's girth of `part` in the plane through the centre line at
+    /// `s` with normal `normal`.
+    fn girth(
+        &self,
+        part: &Part,
+        s: Real,
+        normal: Vec3,
+        name: &'static str,
+    ) -> Result<Girth, MeasureError> {
+        girth_in_plane(part, s, normal, self.front, self.h, name, self.opts)
+    }
+
+    /// Neck, chest, waist and hip.
+    fn trunk_girths(&self, warnings: &mut Vec<String>) -> Vec<IndexedGirth> {
+        let (h, n, crotch) = (self.h, self.opts.search_levels, self.crotch);
+        let tape = |lv: Real| self.trunk_tape(lv);
+        let mut girths = Vec::new();
+        // Neck: around the head's first section.
+        let neck = match self.head {
+            Some(hd) => {
+                let base = self.first_level(hd);
+                self.horizontal(0, search(base - 0.03 * h, base + 0.06 * h, n, false, tape))
+            }
+            None => Err(MeasureError::MissingPart {
+                measurement: "neck",
+                part: PartName::Head,
+            }),
+        };
+        girths.push((0, neck));
+        if self.armpit.is_finite() {
+            let chest = self.armpit - self.opts.chest_below_armpit * h;
+            girths.push((1, self.horizontal(1, Some(chest))));
+            let waist = search(
+                crotch + 0.35 * (chest - crotch),
+                crotch + 0.85 * (chest - crotch),
+                n,
+                false,
+                tape,
+            );
+            girths.push((2, self.horizontal(2, waist)));
+            let hip = waist.and_then(|w| {
+                search(
+                    (crotch + self.opts.hip_search_start * h).max(self.torso_bottom),
+                    w,
+                    n,
+                    true,
+                    tape,
+                )
+            });
+            girths.push((3, self.horizontal(3, hip)));
+        } else {
+            warnings.push("chest, waist, hip: no arm, so no armpit level".to_string());
+        }
+        girths
+    }
+
+    /// Thigh, knee, calf and ankle of the leg `lg`.
+    fn leg_girths(&self, lg: &Part, girths: &mut Vec<IndexedGirth>, warnings: &mut Vec<String>) {
+        let (h, n, up) = (self.h, self.opts.search_levels, self.up);
+        let w = self.opts.axis_window * h;
+        let floor = self.low;
+        let ankle_lo = s_at_level(lg, up, floor + 0.15 * h);
+        let ankle_hi = s_at_level(lg, up, floor + 0.035 * h);
+        let top =
+            s_at_level(lg, up, self.crotch - self.opts.leg_start_below_crotch * h).unwrap_or(0.0);
+        let radius = |s: Real| {
+            let ax = limb_axis(lg, s, w, 0.0, lg.length())?;
+            Some(equivalent_radius(&curve_at(lg, s), ax))
+        };
+        let Some((a, b)) = ankle_lo.zip(ankle_hi) else {
+            warnings.push("thigh, knee, calf, ankle: the leg does not reach the ankle".into());
+            return;
+        };
+        let ankle = search(a, b, n, false, radius).unwrap_or(b);
+        let at = |t: Real| top + t * (ankle - top);
+        let calf = search(at(0.55), at(0.85), n, true, radius).unwrap_or(at(0.7));
+        for (i, s) in [(4, at(0.1)), (5, at(0.45)), (6, calf), (7, ankle)] {
+            let name = MODEL_GIRTHS[i].name;
+            let g = limb_axis(lg, s, w, top, ankle)
+                .ok_or(MeasureError::EmptySection { measurement: name })
+                .and_then(|ax| self.girth(lg, s, ax, name));
+            girths.push((i, g));
+        }
+    }
+
+    /// Upper arm, elbow, forearm and wrist of the arm `a`; returns the arm
+    /// length (to the wrist).
+    fn arm_girths(
+        &self,
+        a: &Part,
+        girths: &mut Vec<IndexedGirth>,
+        warnings: &mut Vec<String>,
+    ) -> Real {
+        let n = self.opts.search_levels;
+        let w = self.opts.axis_window * self.h;
+        let l = a.length();
+        let tape = |s: Real| {
+            let ax = limb_axis(a, s, w, 0.0, l)?;
+            Some(proxies(&curve_at(a, s), ax, self.front))
+        };
+        // Wrist: the smallest girth followed distally by one 15 % larger.
+        let levels: Vec<(Real, Real, Real)> = (0..2 * n)
+            .filter_map(|i| {
+                let s = l * (0.45 + 0.52 * i as Real / (2 * n - 1) as Real);
+                tape(s).map(|(t, r)| (s, t, r))
+            })
+            .collect();
+        let mut wrist = None::<(Real, Real)>;
+        for (k, &(s, t, _)) in levels.iter().enumerate() {
+            let beyond = levels[k..].iter().map(|x| x.1).fold(0.0, Real::max);
+            if beyond >= 1.15 * t && wrist.is_none_or(|(_, b)| t < b) {
+                wrist = Some((s, t));
+            }
+        }
+        let wrist = match wrist {
+            Some((s, _)) => s,
+            None => {
+                warnings.push(
+                    "wrist: no hand wider than the wrist found; the arm's narrowest place is used"
+                        .into(),
+                );
+                levels
+                    .iter()
+                    .min_by(|x, y| x.1.total_cmp(&y.1))
+                    .map_or(0.75 * l, |x| x.0)
+            }
+        };
+        let at = |t: Real| t * wrist;
+        let forearm = search(at(0.62), at(0.8), n, true, |s| {
+            let ax = limb_axis(a, s, w, 0.0, l)?;
+            Some(equivalent_radius(&curve_at(a, s), ax))
+        })
+        .unwrap_or(at(0.7));
+        for (i, s) in [(8, at(0.28)), (9, at(0.56)), (10, forearm), (11, wrist)] {
+            let name = MODEL_GIRTHS[i].name;
+            let g = limb_axis(a, s, w, 0.0, wrist)
+                .ok_or(MeasureError::EmptySection { measurement: name })
+                .and_then(|ax| self.girth(a, s, ax, name));
+            girths.push((i, g));
+        }
+        wrist
+    }
+
+    /// Inseam, arm length and shoulder breadth.
+    fn push_lengths(
+        &self,
+        has_leg: bool,
+        arm_length: Option<Real>,
+        m: &mut Vec<Measurement>,
+        warnings: &mut Vec<String>,
+    ) {
+        if has_leg {
             m.push(Measurement {
-            name: "inseam",
-            kind: MeasurementKind::Height,
-            value: crotch - low,
-            iso: Some("crotch height"),
-            definition: "height above the soles of the crotch: halfway between the torso's first section and the legs' first sections",
-            girth: None,
-        });
+                name: "inseam",
+                kind: MeasurementKind::Height,
+                value: self.crotch - self.low,
+                iso: Some("crotch height"),
+                definition: "height above the soles of the crotch: halfway between the torso's first section and the legs' first sections",
+                girth: None,
+            });
         }
         if let Some(len) = arm_length {
             m.push(Measurement {
-            name: "arm length",
-            kind: MeasurementKind::Length,
-            value: len,
-            iso: Some("shoulder-elbow length + forearm length (to the wrist)"),
-            definition: "arc length of the arm's centre line from its first section (shoulder) to the wrist",
-            girth: None,
-        });
+                name: "arm length",
+                kind: MeasurementKind::Length,
+                value: len,
+                iso: Some("shoulder-elbow length + forearm length (to the wrist)"),
+                definition: "arc length of the arm's centre line from its first section (shoulder) to the wrist",
+                girth: None,
+            });
         }
-        match (body.part(PartName::LeftArm), body.part(PartName::RightArm)) {
-        (Some(l), Some(r)) => m.push(Measurement {
-            name: "shoulder breadth",
-            kind: MeasurementKind::Breadth,
-            value: centre(&l.part, 0.0).distance(centre(&r.part, 0.0)),
-            iso: Some("biacromial breadth"),
-            definition: "straight distance between the centres of the two arms' first sections (the shoulder cuts)",
-            girth: None,
-        }),
-        _ => warnings.push("shoulder breadth: both arms are needed".into()),
+        match (
+            self.body.part(PartName::LeftArm),
+            self.body.part(PartName::RightArm),
+        ) {
+            (Some(l), Some(r)) => m.push(Measurement {
+                name: "shoulder breadth",
+                kind: MeasurementKind::Breadth,
+                value: centre(&l.part, 0.0).distance(centre(&r.part, 0.0)),
+                iso: Some("biacromial breadth"),
+                definition: "straight distance between the centres of the two arms' first sections (the shoulder cuts)",
+                girth: None,
+            }),
+            _ => warnings.push("shoulder breadth: both arms are needed".into()),
+        }
     }
-        let overlaps = match overlaps.join() {
-            Ok(o) => o,
-            Err(panic) => std::panic::resume_unwind(panic),
-        };
-        for (v, s) in overlaps {
-            volume -= v;
-            area -= s;
-        }
-        Ok(Measurements {
-            measurements: m,
-            volume: Comparison {
-                model: volume,
-                mesh: Real::NAN,
-            },
-            surface_area: Comparison {
-                model: area,
-                mesh: Real::NAN,
-            },
-            slice_curves: Vec::new(),
-            slice_spacing: 0.0,
-            warnings,
-        })
-    })
 }
 
 /// Measures every girth of `m` directly on `mesh` in the same plane (the

@@ -619,45 +619,6 @@ pub fn coherent_map<S: Default, R: Copy + Default + Send>(
 mod tests {
     use super::*;
     use crate::assert_near;
-    use crate::geom::parallel::{each_on_cores, join};
-
-    /// Work taken as the cores come free still comes back in order.
-    #[test]
-    fn each_on_cores_keeps_the_order() {
-        let items: Vec<u64> = (0..37).map(|i| (i * 7919) % 101).collect();
-        let slow = |&x: &u64| (0..x * 1000).fold(x, |a, k| a.wrapping_mul(31).wrapping_add(k));
-        let expected: Vec<u64> = items.iter().map(slow).collect();
-        assert_eq!(each_on_cores(&items, slow), expected);
-        assert!(each_on_cores(&[] as &[u64], slow).is_empty());
-    }
-
-    /// Runs taken as the cores come free come back in order, whatever
-    /// the run length and the items' costs; `join` returns both results.
-    #[test]
-    fn parallel_map_keeps_the_order() {
-        let items: Vec<u64> = (0..1000).map(|i| (i * 7919) % 101).collect();
-        let slow = |x: u64| (0..x * 50).fold(x, |a, k| a.wrapping_mul(31).wrapping_add(k));
-        let expected: Vec<u64> = items.iter().map(|&x| slow(x)).collect();
-        for min_run in [1, 3, 64, 250, 500, 1000, 5000] {
-            let got = parallel_map(&items, min_run, |run| {
-                run.iter().map(|&x| slow(x)).collect()
-            });
-            assert_eq!(got, expected, "min_run {min_run}");
-        }
-        // A map that is not one-to-one still concatenates its runs in order.
-        let pairs = parallel_map(&items, 7, |run| run.iter().flat_map(|&x| [x, x]).collect());
-        let doubled: Vec<u64> = items.iter().flat_map(|&x| [x, x]).collect();
-        assert_eq!(pairs, doubled);
-        assert!(parallel_map(&[] as &[u64], 4, |run| run.to_vec()).is_empty());
-        assert_eq!(join(|| slow(7), || slow(9)), (slow(7), slow(9)));
-        // In place: every item once, at its own index.
-        for min_run in [1, 10, 333, 2000] {
-            let mut out = vec![0u64; items.len()];
-            par_for_each_mut(&mut out, min_run, |i, x| *x += slow(items[i]) + 1);
-            let want: Vec<u64> = expected.iter().map(|x| x + 1).collect();
-            assert_eq!(out, want, "min_run {min_run}");
-        }
-    }
 
     fn brute(mesh: &Mesh, p: Point3) -> Real {
         (0..mesh.triangles.len())

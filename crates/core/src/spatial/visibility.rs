@@ -232,7 +232,7 @@ impl Visibility {
     pub fn hidden_all(&self, points: &[Point3]) -> Vec<bool> {
         let order = crate::spatial::morton::morton_sort(points).0;
         let blocks: Vec<&[u32]> = order.chunks(BLOCK).collect();
-        let cores = crate::geom::parallel::cores().min(blocks.len()).max(1);
+        let cores = rayon::current_num_threads().min(blocks.len()).max(1);
         let run = |core: usize| {
             let (mut first, mut cache) = (0, Blockers::default());
             let mut out = Vec::new();
@@ -254,17 +254,8 @@ impl Visibility {
         let answers: Vec<Vec<(u32, bool)>> = if cores == 1 {
             vec![run(0)]
         } else {
-            std::thread::scope(|scope| {
-                let run = &run;
-                let handles: Vec<_> = (0..cores).map(|c| scope.spawn(move || run(c))).collect();
-                handles
-                    .into_iter()
-                    .map(|h| match h.join() {
-                        Ok(a) => a,
-                        Err(panic) => std::panic::resume_unwind(panic),
-                    })
-                    .collect()
-            })
+            use rayon::prelude::*;
+            (0..cores).into_par_iter().map(run).collect()
         };
         let mut hidden = vec![false; points.len()];
         for (i, h) in answers.into_iter().flatten() {

@@ -208,11 +208,8 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
 /// The pieces of [`Model::tessellate_pieces`] in one mesh (indices
 /// shifted; normals kept when every piece has them).
 pub fn merge_pieces(pieces: &[(String, Mesh)]) -> Mesh {
-    let mut out = Mesh::default();
-    for (_, m) in pieces {
-        trigbody_core::internals::geom::mesh::append_mesh(&mut out, m);
-    }
-    out
+    let meshes: Vec<&Mesh> = pieces.iter().map(|(_, m)| m).collect();
+    trigbody_core::internals::geom::mesh::concatenate(&meshes).0
 }
 
 /// A part of a model that could not be tessellated.

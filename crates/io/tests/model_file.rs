@@ -433,3 +433,59 @@ fn cavities_round_trip_face_inward_and_must_name_their_part() {
         "{err}"
     );
 }
+
+/// A body becomes a model and comes back the same (without section fits,
+/// which model files do not hold); models that are not bodies are refused
+/// with what is wrong.
+#[test]
+fn body_to_model_and_back() {
+    use trigbody_core::{Body, BodyCavity, BodyFrame, BodyPart, PartName, Units};
+    use trigbody_io::body_file::{body_of_model, model_of_body, BodyOfModelError};
+    let part = Part::new(sections(), &PartOptions::default()).unwrap();
+    let body = Body {
+        parts: vec![
+            BodyPart {
+                name: PartName::Torso,
+                part: part.clone(),
+                fits: Vec::new(),
+            },
+            BodyPart {
+                name: PartName::Head,
+                part: part.clone(),
+                fits: Vec::new(),
+            },
+        ],
+        transitions: Vec::new(),
+        cavities: vec![BodyCavity {
+            within: PartName::Head,
+            part: part.clone(),
+            fits: Vec::new(),
+        }],
+        units: Units::Millimetres,
+        frame: BodyFrame {
+            up: Vec3::Z,
+            front: Vec3::Y,
+            left: Vec3::new(-1.0, 0.0, 0.0),
+            origin: Vec3::new(0.0, 0.0, 0.0),
+        },
+        height: 1.7,
+    };
+    let model = round_trip(&model_of_body(&body));
+    assert_eq!(body_of_model(model.clone()), Ok(body));
+    let mut loft = model.clone();
+    loft.body = None;
+    assert_eq!(body_of_model(loft), Err(BodyOfModelError::NoBody));
+    let mut renamed = model.clone();
+    renamed.parts[0].name = "tail".into();
+    let e = body_of_model(renamed).unwrap_err();
+    assert_eq!(e, BodyOfModelError::NotABodyPart("tail".into()));
+    assert!(e
+        .to_string()
+        .starts_with("part \"tail\" is not a body part (torso, head,"));
+    let mut inches = model;
+    inches.units = "in".into();
+    assert_eq!(
+        body_of_model(inches).unwrap_err().to_string(),
+        "units \"in\" are not m, cm or mm"
+    );
+}

@@ -13,9 +13,10 @@
 mod common;
 
 use common::shared_data;
+use trigbody_core::internals::geom::mesh::concatenate;
 use trigbody_core::internals::geom::shapes;
 use trigbody_core::internals::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
-use trigbody_core::internals::surface::skin::{concatenate, outer_triangles};
+use trigbody_core::internals::surface::skin::outer_triangles;
 use trigbody_core::{reconstruct, Body, ReconstructError, ReconstructOptions, Report, Units};
 use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_core::{BodyGeometry, PartName, SegmentError};

@@ -340,7 +340,7 @@ impl Body {
     /// Tessellates every part, then every transition, then every cavity
     /// into one mesh (in that order), the pieces taken by the cores as they come free.
     pub fn tessellate(&self, options: &TessellationOptions) -> Result<Mesh, ReconstructError> {
-        Ok(crate::surface::skin::concatenate(&self.tessellate_pieces(options)?).0)
+        Ok(crate::geom::mesh::concatenate(&self.tessellate_pieces(options)?).0)
     }
 
     /// Every part's tessellation, then every transition's, then every

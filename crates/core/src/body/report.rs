@@ -158,46 +158,6 @@ fn unflagged(d: &[Real], flags: &[bool]) -> Vec<Real> {
         .collect()
 }
 
-/// The pieces (without normals) one after another in one mesh and each
-/// piece's range of triangles in it, as [`crate::surface::skin::concatenate`]
-/// makes them: the positions and the renumbered triangles copied side by
-/// side on two cores (the report's surface is about 9 MB; most of the
-/// time is the first touch of the fresh arrays' pages).
-fn concatenate(pieces: &[Mesh]) -> (Mesh, Vec<std::ops::Range<usize>>) {
-    let (positions, triangles) = crate::geom::parallel::join(
-        || {
-            let mut out = Vec::with_capacity(pieces.iter().map(|m| m.positions.len()).sum());
-            for m in pieces {
-                out.extend_from_slice(&m.positions);
-            }
-            out
-        },
-        || {
-            let mut out = Vec::with_capacity(pieces.iter().map(|m| m.triangles.len()).sum());
-            let mut base = 0u32;
-            for m in pieces {
-                out.extend(m.triangles.iter().map(|t| t.map(|v| v + base)));
-                base += m.positions.len() as u32;
-            }
-            out
-        },
-    );
-    let mut ranges = Vec::with_capacity(pieces.len());
-    let mut start = 0;
-    for m in pieces {
-        ranges.push(start..start + m.triangles.len());
-        start += m.triangles.len();
-    }
-    (
-        Mesh {
-            positions,
-            normals: None,
-            triangles,
-        },
-        ranges,
-    )
-}
-
 /// Deterministic subsample of at most `n` items (every k-th).
 fn every_kth(points: &[Point3], n: usize) -> Vec<Point3> {
     let k = points.len().div_ceil(n.max(1)).max(1);
@@ -243,7 +203,7 @@ pub(super) fn measure_with(
     for piece in &mut tessellated {
         piece.normals = None;
     }
-    let (surface, pieces) = concatenate(&tessellated);
+    let (surface, pieces) = crate::geom::mesh::concatenate(&tessellated);
     drop(tessellated);
     // Model -> input (sampling the model included) while the model's
     // hierarchy is built, the pieces' open ends closed and the outer skin
@@ -391,26 +351,6 @@ pub(super) fn measure_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The two-core concatenation is the skin module's, array for array.
-    #[test]
-    fn concatenation_matches_the_skins() {
-        let piece = |k: u32, n: u32| Mesh {
-            positions: (0..n)
-                .map(|i| Vec3::new(i as Real, k as Real, (i * k) as Real * 0.5))
-                .collect(),
-            normals: None,
-            triangles: (0..n.saturating_sub(2))
-                .map(|i| [i, (i + 1 + k) % n, (i + 2) % n])
-                .collect(),
-        };
-        let pieces = vec![piece(1, 7), piece(2, 3), piece(3, 0), piece(4, 12)];
-        let (mine, ranges) = concatenate(&pieces);
-        let (skin, skin_ranges) = crate::surface::skin::concatenate(&pieces);
-        assert_eq!(mine, skin);
-        assert_eq!(ranges, skin_ranges);
-        assert_eq!(concatenate(&[]), crate::surface::skin::concatenate(&[]));
-    }
 
     #[test]
     fn grid_nearest_matches_brute_force() {

@@ -245,6 +245,34 @@ impl Mesh {
             })
             .sum()
     }
+
+    /// Per vertex, the sum of its triangles' `(b−a)×(c−a)` (twice their
+    /// area along their normal, so large faces count more); triangles with
+    /// an index out of range are skipped.
+    pub fn vertex_normal_sums(&self) -> Vec<Vec3> {
+        let mut normals = vec![Vec3::ZERO; self.positions.len()];
+        for t in &self.triangles {
+            let [a, b, c] = t.map(|i| self.positions.get(i as usize).copied());
+            let (Some(a), Some(b), Some(c)) = (a, b, c) else {
+                continue;
+            };
+            let n = (b - a).cross(c - a);
+            for &i in t {
+                normals[i as usize] += n;
+            }
+        }
+        normals
+    }
+
+    /// Area-weighted unit vertex normals ([`Mesh::vertex_normal_sums`]
+    /// normalized); a vertex whose sum vanishes gets the zero vector.
+    pub fn vertex_normals(&self) -> Vec<Vec3> {
+        let mut normals = self.vertex_normal_sums();
+        for n in &mut normals {
+            *n = n.normalized().unwrap_or(Vec3::ZERO);
+        }
+        normals
+    }
 }
 
 impl PointCloud {
@@ -295,20 +323,47 @@ pub(crate) fn union(a: Aabb, b: Aabb) -> Aabb {
     }
 }
 
-/// Appends `m` to `out` (indices shifted).
-pub fn append_mesh(out: &mut Mesh, m: &Mesh) {
-    let base = out.positions.len() as u32;
-    out.positions.extend_from_slice(&m.positions);
-    match (&mut out.normals, &m.normals) {
-        (Some(n), Some(mn)) => n.extend_from_slice(mn),
-        (n @ None, Some(mn)) if base == 0 => *n = Some(mn.clone()),
-        (n, _) => *n = None,
-    }
-    out.triangles.extend(
-        m.triangles
-            .iter()
-            .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+/// The pieces one after another in one mesh, and each piece's range of
+/// triangles in it (normals kept only when every piece has them). The
+/// positions and the renumbered triangles are copied side by side: most of
+/// the time goes to the first touch of the fresh arrays' pages.
+pub fn concatenate<M: std::borrow::Borrow<Mesh> + Sync>(
+    pieces: &[M],
+) -> (Mesh, Vec<std::ops::Range<usize>>) {
+    let meshes = || pieces.iter().map(|m| m.borrow());
+    let gather = |f: &(dyn Fn(&Mesh) -> &[Point3] + Sync)| {
+        let mut out = Vec::with_capacity(meshes().map(|m| f(m).len()).sum());
+        for m in meshes() {
+            out.extend_from_slice(f(m));
+        }
+        out
+    };
+    let with_normals = !pieces.is_empty() && meshes().all(|m| m.normals.is_some());
+    let (positions, (triangles, normals)) = rayon::join(
+        || gather(&|m| &m.positions),
+        || {
+            let mut out = Vec::with_capacity(meshes().map(|m| m.triangles.len()).sum());
+            let mut base = 0u32;
+            for m in meshes() {
+                out.extend(m.triangles.iter().map(|t| t.map(|v| v + base)));
+                base += m.positions.len() as u32;
+            }
+            let normals = with_normals.then(|| gather(&|m| m.normals.as_deref().unwrap_or(&[])));
+            (out, normals)
+        },
     );
+    let mut ranges = Vec::with_capacity(pieces.len());
+    let mut start = 0;
+    for m in meshes() {
+        ranges.push(start..start + m.triangles.len());
+        start += m.triangles.len();
+    }
+    let mesh = Mesh {
+        positions,
+        normals,
+        triangles,
+    };
+    (mesh, ranges)
 }
 
 #[cfg(test)]

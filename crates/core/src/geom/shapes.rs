@@ -128,17 +128,10 @@ pub fn torus(center: Point3, big_r: Real, r: Real, n_major: usize, n_minor: usiz
 
 /// Concatenates meshes (no welding): the union of separate closed solids.
 pub fn merge(meshes: &[Mesh]) -> Mesh {
-    let mut out = Mesh::default();
-    for m in meshes {
-        let base = out.positions.len() as u32;
-        out.positions.extend_from_slice(&m.positions);
-        out.triangles.extend(
-            m.triangles
-                .iter()
-                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
-        );
+    Mesh {
+        normals: None,
+        ..crate::geom::mesh::concatenate(meshes).0
     }
-    out
 }
 
 /// A crude standing "body" about 1.7 units tall along +z, facing +y, built

@@ -4,37 +4,74 @@
 
 use crate::curve::trig::TrigCurve;
 use crate::geom::math::{Real, Vec2};
+use crate::section::cloud::height_key;
 
 /// The convex hull of planar points, counter-clockwise, without repeated or
-/// collinear points (Andrew's monotone chain, O(n log n)). Fewer than three
-/// non-collinear points give the extreme points only.
+/// collinear points (Andrew's monotone chain, O(n log n)); points that are
+/// not finite are left out. Fewer than three non-collinear points give the
+/// extreme points only.
+///
+/// The points are sorted by `x`, then `y`, in IEEE total order: as one
+/// integer key each (the two coordinates' order-preserving bits,
+/// [`height_key`], `x` in the high half), sorted unstably and decoded
+/// back. Keys are equal only for bitwise-equal points, so this is the
+/// order of a stable sort by `(x.total_cmp, y.total_cmp)`; integer
+/// comparisons are several times cheaper than the float comparator (the
+/// segmentation takes the hulls of every slab's components).
 pub fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
-    let mut p: Vec<Vec2> = points.iter().copied().filter(|q| q.is_finite()).collect();
-    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
-    p.dedup();
-    if p.len() < 3 {
-        return p;
+    let mut keys: Vec<u128> = points
+        .iter()
+        .filter(|q| q.is_finite())
+        .map(|q| (u128::from(height_key(q.x)) << 64) | u128::from(height_key(q.y)))
+        .collect();
+    keys.sort_unstable();
+    let pts: Vec<Vec2> = keys
+        .iter()
+        .map(|&k| Vec2::new(from_height_key((k >> 64) as u64), from_height_key(k as u64)))
+        .collect();
+    monotone_chain(pts)
+}
+
+/// Andrew's monotone chain over points sorted by `x`, then `y`: their
+/// convex hull, counter-clockwise (duplicates dropped first; fewer than
+/// three distinct points are returned as they are).
+pub(crate) fn monotone_chain(mut pts: Vec<Vec2>) -> Vec<Vec2> {
+    pts.dedup();
+    if pts.len() < 3 {
+        return pts;
     }
-    let turn = |o: Vec2, a: Vec2, b: Vec2| (a - o).cross(b - o);
-    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
-    for pass in 0..2 {
-        let start = hull.len();
-        let iter: Box<dyn Iterator<Item = &Vec2>> = if pass == 0 {
-            Box::new(p.iter())
-        } else {
-            Box::new(p.iter().rev())
-        };
-        for &q in iter {
-            while hull.len() >= start + 2
-                && turn(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0
-            {
+    let mut hull: Vec<Vec2> = Vec::with_capacity(pts.len() + 1);
+    // One half of the hull: `q` joins after the points that would make a
+    // clockwise (or straight) turn before it are popped, back to `start`.
+    let add = |hull: &mut Vec<Vec2>, start: usize, q: Vec2| {
+        while hull.len() >= start + 2 {
+            let a = hull[hull.len() - 2];
+            let b = hull[hull.len() - 1];
+            if (b - a).cross(q - a) <= 0.0 {
                 hull.pop();
+            } else {
+                break;
             }
-            hull.push(q);
         }
-        hull.pop();
+        hull.push(q);
+    };
+    for &q in &pts {
+        add(&mut hull, 0, q);
     }
+    hull.pop();
+    let start = hull.len();
+    for &q in pts.iter().rev() {
+        add(&mut hull, start, q);
+    }
+    hull.pop();
     hull
+}
+
+/// The number whose [`height_key`] is `k` (the key's inverse: the same
+/// bits back).
+pub(crate) fn from_height_key(k: u64) -> Real {
+    let b = (k ^ (1 << 63)) as i64;
+    Real::from_bits((b ^ ((((b >> 63) as u64) >> 1) as i64)) as u64)
 }
 
 /// The perimeter of a closed polygon.

@@ -141,6 +141,7 @@ use crate::section::cloud::{
     height_key, keyed_heights, section_of_slab, sort_keyed, sorted_heights, CloudSlicer,
     ScanSectionError, ScanSectionOptions,
 };
+use crate::section::girth::convex_hull;
 use crate::section::mesh::{
     point_in_polygon, polygon_area_centroid, section_mesh, MeshSlicer, Plane, SectionError,
     SectionLoop, SectionOptions,
@@ -819,70 +820,6 @@ impl Node {
             || point_in_polygon(self.c2, &o.poly)
             || point_in_polygon(o.c2, &self.poly)
     }
-}
-
-/// The convex hull of `p` (Andrew's monotone chain), counter-clockwise.
-///
-/// The points are sorted by `x`, then `y`, in IEEE total order: as one
-/// integer key each (the two coordinates' order-preserving bits,
-/// [`height_key`], `x` in the high half), sorted unstably and decoded
-/// back. Keys are equal only for bitwise-equal points, so this is the
-/// order of a stable sort by `(x.total_cmp, y.total_cmp)`; integer
-/// comparisons are several times cheaper than the float comparator (the
-/// slice graph takes the hulls of every slab's components).
-fn convex_hull(p: &[Point2]) -> Vec<Point2> {
-    let mut keys: Vec<u128> = p
-        .iter()
-        .map(|q| (u128::from(height_key(q.x)) << 64) | u128::from(height_key(q.y)))
-        .collect();
-    keys.sort_unstable();
-    let pts: Vec<Point2> = keys
-        .iter()
-        .map(|&k| Vec2::new(from_height_key((k >> 64) as u64), from_height_key(k as u64)))
-        .collect();
-    monotone_chain(pts)
-}
-
-/// Andrew's monotone chain over points sorted by `x`, then `y`: their
-/// convex hull, counter-clockwise (duplicates dropped first; fewer than
-/// three distinct points are returned as they are).
-fn monotone_chain(mut pts: Vec<Point2>) -> Vec<Point2> {
-    pts.dedup();
-    if pts.len() < 3 {
-        return pts;
-    }
-    let mut hull: Vec<Point2> = Vec::with_capacity(pts.len() + 1);
-    // One half of the hull: `q` joins after the points that would make a
-    // clockwise (or straight) turn before it are popped, back to `start`.
-    let add = |hull: &mut Vec<Point2>, start: usize, q: Point2| {
-        while hull.len() >= start + 2 {
-            let a = hull[hull.len() - 2];
-            let b = hull[hull.len() - 1];
-            if (b - a).cross(q - a) <= 0.0 {
-                hull.pop();
-            } else {
-                break;
-            }
-        }
-        hull.push(q);
-    };
-    for &q in &pts {
-        add(&mut hull, 0, q);
-    }
-    hull.pop();
-    let start = hull.len();
-    for &q in pts.iter().rev() {
-        add(&mut hull, start, q);
-    }
-    hull.pop();
-    hull
-}
-
-/// The number whose [`height_key`] is `k` (the key's inverse: the same
-/// bits back).
-fn from_height_key(k: u64) -> Real {
-    let b = (k ^ (1 << 63)) as i64;
-    Real::from_bits((b ^ ((((b >> 63) as u64) >> 1) as i64)) as u64)
 }
 
 /// Perimeter of a closed polygon.
@@ -3284,6 +3221,7 @@ fn find_wrist(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::section::girth::{from_height_key, monotone_chain};
 
     /// The slicing's sort handed to the cutter along `up = ±axis`: heights
     /// ascending and equal to `p·up` for the points in that order, each

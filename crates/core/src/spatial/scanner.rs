@@ -325,14 +325,11 @@ fn vertex_normals(mesh: &Mesh) -> Vec<Vec3> {
     } else {
         1.0
     };
-    let mut n = vec![Vec3::ZERO; mesh.positions.len()];
-    for t in 0..mesh.triangles.len() {
-        let [a, b, c] = mesh.triangle(t);
-        let f = (b - a).cross(c - a) * outward; // length = 2 area
-        for &v in &mesh.triangles[t] {
-            n[v as usize] += f;
-        }
-    }
+    let n: Vec<Vec3> = mesh
+        .vertex_normal_sums()
+        .into_iter()
+        .map(|s| s * outward)
+        .collect();
     // Per-face orientation decides (sample_surface keeps the smooth normal
     // only when it agrees with the face); provided normals are used if they
     // agree on the whole with the computed ones.

@@ -70,7 +70,7 @@
 //! distance queries and 2 100 parity tests).
 
 use crate::geom::math::{Point3, Real, Vec3};
-use crate::geom::mesh::{Aabb, Mesh};
+use crate::geom::mesh::{concatenate, Aabb, Mesh};
 use crate::geom::parallel::each_on_cores;
 use crate::spatial::distance::MeshDistance;
 use std::ops::Range;
@@ -146,28 +146,6 @@ pub fn outer_pieces(pieces: &[Mesh], depth: Real) -> Vec<Mesh> {
         .zip(&ranges)
         .map(|(m, r)| kept(m, |t| skin.outer[r.start + t]))
         .collect()
-}
-
-/// The pieces one after another in one mesh, and each piece's range of
-/// triangles in it (normals kept only when every piece has them).
-pub fn concatenate(pieces: &[Mesh]) -> (Mesh, Vec<Range<usize>>) {
-    // Sized once: growing by doubling reallocates (and touches) every
-    // array a few times over (the report's surface is about 13 MB).
-    let mut out = Mesh::default();
-    out.positions
-        .reserve_exact(pieces.iter().map(|m| m.positions.len()).sum());
-    out.triangles
-        .reserve_exact(pieces.iter().map(|m| m.triangles.len()).sum());
-    if !pieces.is_empty() && pieces.iter().all(|m| m.normals.is_some()) {
-        out.normals = Some(Vec::with_capacity(out.positions.capacity()));
-    }
-    let mut ranges = Vec::with_capacity(pieces.len());
-    for m in pieces {
-        let start = out.triangles.len();
-        crate::geom::mesh::append_mesh(&mut out, m);
-        ranges.push(start..out.triangles.len());
-    }
-    (out, ranges)
 }
 
 /// The outer skin of `pieces` with depth tolerance `depth` (in the pieces'

@@ -14,10 +14,11 @@ use clap::Args;
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use trigbody_core::body::{reconstruct, Units};
-use trigbody_core::compare::{compare_surfaces, CompareOptions, SurfaceComparison};
-use trigbody_core::segment::BodyGeometry;
-use trigbody_core::{Mesh, ReconstructOptions, TessellationOptions, Vec3};
+use trigbody_core::internals::spatial::distance::{DistanceStats, MeshDistance};
+use trigbody_core::{
+    compare_surfaces, reconstruct, BodyGeometry, CompareOptions, Mesh, ReconstructOptions,
+    SurfaceComparison, TessellationOptions, Units, Vec3,
+};
 use trigbody_io::body_file::model_of_body;
 use trigbody_io::model::{merge_pieces, skin_pieces, Skin};
 use trigbody_io::{read_geometry, Geometry, ReadOptions};
@@ -249,7 +250,7 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<Judged, String> 
             (j.to_string(), err)
         })
         .collect();
-    let skin_mm = trigbody_core::distance::MeshDistance::new(&truth)
+    let skin_mm = MeshDistance::new(&truth)
         .distances(&skin.positions)
         .into_iter()
         .map(|d| d * mm)
@@ -299,7 +300,7 @@ fn outer_skin(model: &trigbody_core::Body) -> std::result::Result<Mesh, String> 
 }
 
 fn in_mm(c: SurfaceComparison, mm: f64) -> SurfaceComparison {
-    let s = |d: trigbody_core::distance::DistanceStats| trigbody_core::distance::DistanceStats {
+    let s = |d: DistanceStats| DistanceStats {
         rms: d.rms * mm,
         mean: d.mean * mm,
         p95: d.p95 * mm,
@@ -529,7 +530,7 @@ fn summary(outcomes: &[Outcome]) -> String {
 fn pictures(outcomes: &[Outcome], args: &CorpusArgs) -> Result<()> {
     let mut ranked: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_ok()).collect();
     ranked.sort_by(|a, b| {
-        let r = |o: &Outcome| o.result.as_ref().map_or(0.0, |j| j.cmp.symmetric_rms);
+        let r = |o: &Outcome| o.result.as_ref().map_or(0.0_f64, |j| j.cmp.symmetric_rms);
         r(b).total_cmp(&r(a))
     });
     for (k, o) in ranked.iter().take(args.pictures).enumerate() {

@@ -6,7 +6,7 @@ use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use std::io::Read;
 use std::path::{Path, PathBuf};
-use trigbody_core::fit::{fit_loop, fit_loop_2d};
+use trigbody_core::{fit_loop, fit_loop_2d};
 use trigbody_core::{
     FitOptions, LoopFit, OrderChoice, Parameterization, Real, Vec2, Vec3, Weighting,
 };
@@ -28,7 +28,7 @@ pub struct FitFlags {
     #[arg(long, default_value_t = 0.05)]
     pub em: Real,
     /// Highest order `auto` may choose.
-    #[arg(long, default_value_t = trigbody_core::order::DEFAULT_MAX_ORDER)]
+    #[arg(long, default_value_t = trigbody_core::internals::curve::order::DEFAULT_MAX_ORDER)]
     pub max_order: usize,
     /// Parameter values of the points: chord length or polar angle.
     #[arg(long, value_enum, default_value_t = ParamFlag::Chord)]

@@ -6,7 +6,7 @@ use crate::exit::bad;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
-use trigbody_core::part::DEFAULT_CURVES_PER_PATCH;
+use trigbody_core::internals::surface::part::DEFAULT_CURVES_PER_PATCH;
 use trigbody_core::{CapKind, Part, PartOptions, Point3, Real, Skinning, TrigCurve, Vec3};
 use trigbody_io::model::{read_curve_levels, write_model, Model, ModelPart};
 
@@ -70,7 +70,7 @@ pub struct LoftArgs {
     #[arg(long, value_enum, default_value_t = CapFlag::Open)]
     pub end_cap: CapFlag,
     /// Dome height relative to the end curve's mean radius.
-    #[arg(long, default_value_t = trigbody_core::cap::DEFAULT_DOME_HEIGHT)]
+    #[arg(long, default_value_t = trigbody_core::internals::surface::cap::DEFAULT_DOME_HEIGHT)]
     pub dome_height: Real,
     /// The unit of the coordinates, recorded in the model file.
     #[arg(long, default_value = "m")]

@@ -10,7 +10,7 @@ use anyhow::Result;
 use clap::Args;
 use serde_json::{json, Value};
 use std::path::PathBuf;
-use trigbody_core::measure::{Measurement, Measurements};
+use trigbody_core::{Measurement, Measurements};
 use trigbody_io::{ReadOptions, UpAxis};
 
 /// Flags of `trigbody measure`.
@@ -163,7 +163,7 @@ fn table(m: &Measurements, unit: &str, measured: Measured) -> String {
             x.iso.unwrap_or("-")
         );
     }
-    let compared = |c: &trigbody_core::measure::Comparison, digits: usize| {
+    let compared = |c: &trigbody_core::internals::measure::mesh::Comparison, digits: usize| {
         if c.mesh.is_finite() {
             format!(
                 " (input mesh {:.digits$}, {:+.2} %)",

@@ -12,7 +12,7 @@ use crate::panels::{across, loops_panel, LoopDrawing};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use trigbody_core::measure_model::model_ellipse;
+use trigbody_core::internals::measure::model::model_ellipse;
 use trigbody_io::{ReadOptions, UpAxis};
 use trigbody_render::{plot_panels, PlotOptions};
 

@@ -9,8 +9,8 @@ use crate::progress::ProgressBar;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use std::path::PathBuf;
-use trigbody_core::body::{reconstruct_with_progress, Progress, ReconstructOptions, Report, Units};
-use trigbody_core::segment::BodyGeometry;
+use trigbody_core::BodyGeometry;
+use trigbody_core::{reconstruct_with_progress, Progress, ReconstructOptions, Report, Units};
 use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
@@ -63,10 +63,10 @@ pub struct ReconstructArgs {
     #[arg(long, default_value_t = ReconstructOptions::default().spacing)]
     pub spacing: Real,
     /// Average relative error tolerance E_a of every section.
-    #[arg(long, default_value_t = trigbody_core::math::DEFAULT_EA)]
+    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EA)]
     pub ea: Real,
     /// Maximum relative error tolerance E_M of every section.
-    #[arg(long, default_value_t = trigbody_core::math::DEFAULT_EM)]
+    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EM)]
     pub em: Real,
     /// Replace existing output files.
     #[arg(long)]
@@ -116,7 +116,7 @@ fn table(r: &Report) -> String {
         3 * r.input_vertices,
         100.0 * r.parameter_ratio()
     ));
-    let d = |name: &str, x: &trigbody_core::body::DistanceMm| {
+    let d = |name: &str, x: &trigbody_core::internals::body::DistanceMm| {
         format!(
             "{name:<16} rms {:>6.2} mm  p95 {:>6.2} mm  max {:>7.2} mm\n",
             x.rms, x.p95, x.max

@@ -7,9 +7,9 @@ use crate::output::write_file;
 use anyhow::Result;
 use clap::Args;
 use std::path::{Path, PathBuf};
-use trigbody_core::body::PointGrid;
-use trigbody_core::cloud_surface::CloudSurface;
-use trigbody_core::distance::MeshDistance;
+use trigbody_core::internals::spatial::cloud_surface::CloudSurface;
+use trigbody_core::internals::spatial::distance::MeshDistance;
+use trigbody_core::internals::spatial::point_grid::PointGrid;
 use trigbody_core::Mesh;
 use trigbody_io::{Geometry, ReadOptions, UpAxis};
 use trigbody_render::{

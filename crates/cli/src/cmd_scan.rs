@@ -4,8 +4,8 @@ use crate::exit::{bad, print};
 use anyhow::Result;
 use clap::Args;
 use std::path::PathBuf;
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
 use trigbody_core::Real;
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_io::{read_mesh, write_point_cloud, ReadOptions, WriteOptions};
 
 /// Arguments of `trigbody scan`. Each option maps onto a field of

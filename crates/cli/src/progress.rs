@@ -10,7 +10,7 @@
 //! and scripted runs only see warnings and results. No dependency: the
 //! line is plain text padded with spaces over the previous one.
 //!
-//! Use it with [`trigbody_core::body::reconstruct_with_progress`]:
+//! Use it with [`trigbody_core::reconstruct_with_progress`]:
 //!
 //! ```ignore
 //! let mut bar = ProgressBar::new("reconstructing");
@@ -20,7 +20,7 @@
 
 use std::io::{IsTerminal, Write};
 use std::time::{Duration, Instant};
-use trigbody_core::body::Progress;
+use trigbody_core::Progress;
 
 /// Cells of the bar.
 const WIDTH: usize = 20;

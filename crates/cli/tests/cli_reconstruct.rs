@@ -125,7 +125,8 @@ fn built_in_body_writes_model_mesh_and_report() {
 #[test]
 fn bad_input_exits_2_naming_the_file_and_what_was_not_found() {
     let d = dir("bad");
-    let sphere = trigbody_core::shapes::uv_sphere(trigbody_core::Vec3::ZERO, 0.3, 32, 16);
+    let sphere =
+        trigbody_core::internals::geom::shapes::uv_sphere(trigbody_core::Vec3::ZERO, 0.3, 32, 16);
     let path = d.join("ball.obj");
     trigbody_io::write_mesh(&path, &sphere, &trigbody_io::WriteOptions::default()).unwrap();
     let out = trigbody()

@@ -4,7 +4,8 @@
 use assert_cmd::Command;
 use serde_json::Value;
 use std::path::PathBuf;
-use trigbody_core::{shapes, Vec3};
+use trigbody_core::internals::geom::shapes;
+use trigbody_core::Vec3;
 use trigbody_io::{write_mesh, WriteOptions};
 
 fn trigbody() -> Command {

@@ -5,9 +5,10 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::f64::consts::TAU;
 use std::hint::black_box;
-use trigbody_core::ellipse::fit_ellipse;
-use trigbody_core::fit::{chord_params, fit_loop_2d, search_order, FitOptions};
-use trigbody_core::lsq::{fit_equally_spaced, LoopFitter};
+use trigbody_core::fit_ellipse;
+use trigbody_core::internals::curve::fit::{chord_params, search_order};
+use trigbody_core::internals::curve::lsq::{fit_equally_spaced, LoopFitter};
+use trigbody_core::{fit_loop_2d, FitOptions};
 use trigbody_core::{Real, Vec2};
 
 /// A torso-like loop (flattened, with a front dip and a back bulge) sampled

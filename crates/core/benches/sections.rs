@@ -10,10 +10,11 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
-use trigbody_core::scan_section::{CloudSlicer, ScanSectionOptions};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::section::{MeshSlicer, SectionOptions};
-use trigbody_core::{shapes, Mesh, Vec3};
+use trigbody_core::internals::geom::shapes;
+use trigbody_core::internals::section::cloud::{CloudSlicer, ScanSectionOptions};
+use trigbody_core::internals::section::mesh::{MeshSlicer, SectionOptions};
+use trigbody_core::{virtual_scan, ScannerOptions};
+use trigbody_core::{Mesh, Vec3};
 
 /// `v x y z` and `f a b c ...` lines only (fan-triangulated, 1-based,
 /// `a/b/c` forms accepted); `None` on anything unexpected.

@@ -12,53 +12,114 @@
 //! assert!((c.perimeter() - std::f64::consts::TAU * 0.1).abs() < 1e-12);
 //! assert!((c.area() - std::f64::consts::PI * 0.01).abs() < 1e-15);
 //! ```
+//!
+//! ## The pipeline
+//!
+//! [`reconstruct`] turns a body mesh or a cloud of scanned points into a
+//! [`Body`] and a [`Report`]. Its stages, in order, each in a module layer
+//! that depends only on the layers before it:
+//!
+//! 1. **Input** (`geom`): a [`Mesh`] or a [`PointCloud`], seen as a
+//!    [`BodyGeometry`]. `spatial` answers distance, visibility and
+//!    nearest-point queries on it.
+//! 2. **Segmentation** (`segment`): the up axis, the body's frame
+//!    ([`BodyFrame`]), the landmarks and a skeleton of named parts
+//!    ([`PartName`]), from a graph of horizontal slices.
+//! 3. **Sections** (`section`): every part cut perpendicular to its axis,
+//!    a mesh by planes, a cloud by thin slabs (holes closed).
+//! 4. **Curves** (`curve`): each section loop fitted by a [`TrigCurve`]
+//!    ([`fit_loop`]) whose order is the smallest meeting the error
+//!    tolerances E_a and E_M (the ellipse [`EllipseFit`] is the baseline).
+//! 5. **Surfaces** (`surface`): consecutive curves skinned by Hermite
+//!    [`Patch`]es into a [`Part`] ([`Part::loft`]), closed by [`Cap`]s and
+//!    joined by transitions; [`tessellate_part`] makes a mesh of it.
+//! 6. **Body** (`body`): the parts, their transitions and cavities
+//!    assembled into a [`Body`], refined where the fit is poor, and judged
+//!    against the input (the [`Report`]: sizes, errors, distances).
+//! 7. **Measurement** (`measure`): stature, girths, lengths, volume and
+//!    area of a model ([`measure_body`]) or of a mesh directly
+//!    ([`measure_mesh`]).
+//!
+//! Reading and writing files (meshes, scans, the model file) is the
+//! `trigbody-io` crate's.
 
-pub mod body;
-pub mod cap;
-pub mod cloud_clean;
-pub mod cloud_surface;
-pub mod compare;
-pub mod curve;
-pub mod distance;
-pub mod ellipse;
-pub mod fit;
-pub mod girth;
-pub mod holes;
-pub mod joints;
-pub mod linalg;
-pub mod lsq;
-pub mod math;
-pub mod measure;
-pub mod measure_model;
-pub mod mesh;
-pub mod order;
-pub mod part;
-pub mod patch;
-pub mod scan_section;
-pub mod scanner;
-pub mod section;
-pub mod segment;
-pub mod series;
-pub mod shapes;
-pub mod skin;
-pub mod tessellate;
-pub mod transition;
-pub mod visibility;
+mod anatomy;
+mod body;
+mod curve;
+mod geom;
+mod measure;
+mod section;
+mod segment;
+mod spatial;
+mod surface;
 
-pub use body::{reconstruct, Body, BodyPart, ReconstructError, ReconstructOptions, Report, Units};
-pub use cap::{Cap, CapKind, DomeAxis};
-pub use curve::{CurveError, Frame, SpaceCurve, TrigCurve};
-pub use ellipse::EllipseFit;
-pub use fit::{
+pub use anatomy::{BodyFrame, BodyGeometry, Landmark, LandmarkKind, PartName};
+pub use body::{
+    reconstruct, reconstruct_with_progress, Body, BodyCavity, BodyPart, BodyTransition, Progress,
+    ReconstructError, ReconstructOptions, Report, SectionFit, Units,
+};
+pub use curve::ellipse::{fit_ellipse, EllipseFit};
+pub use curve::fit::{
     fit_loop, fit_loop_2d, FitError, FitOptions, LoopFit, OrderChoice, Parameterization, Weighting,
 };
-pub use lsq::FitErrors;
-pub use math::{Point2, Point3, Real, Vec2, Vec3};
-pub use measure::{
+pub use curve::lsq::FitErrors;
+pub use curve::series::Series;
+pub use curve::trig::{CurveError, Frame, SpaceCurve, TrigCurve};
+pub use geom::math::{Point2, Point3, Real, Vec2, Vec3};
+pub use geom::mesh::{Aabb, Mesh, MeshError, PointCloud};
+pub use measure::compare::{compare_surfaces, CompareOptions, SurfaceComparison};
+pub use measure::mesh::{
     measure_mesh, MeasureError, MeasureOptions, Measurement, MeasurementKind, Measurements,
 };
-pub use mesh::{Aabb, Mesh, MeshError, PointCloud};
-pub use part::{Part, PartError, PartOptions, Segment, Skinning};
-pub use patch::{EndConditions, Patch, PatchError};
-pub use series::Series;
-pub use tessellate::{tessellate_part, tessellate_part_into, TessellateError, TessellationOptions};
+pub use measure::model::{measure_body, ModelMeasureOptions};
+pub use segment::joints::{estimate_joints, JointName};
+pub use segment::{segment, SegmentError, SegmentOptions, Segmentation};
+pub use spatial::cloud_clean::{clean_cloud, CleanOptions, CleanReport};
+pub use spatial::scanner::{virtual_scan, ScannerOptions};
+pub use surface::cap::{Cap, CapKind, DomeAxis};
+pub use surface::part::{Part, PartError, PartOptions, Segment, Skinning};
+pub use surface::patch::{EndConditions, Patch, PatchError};
+pub use surface::tessellate::{
+    tessellate_part, tessellate_part_into, TessellateError, TessellationOptions,
+};
+
+/// The building blocks the workspace's own crates (io, render, the
+/// command line, benches and tests) reach below the public API. Not part
+/// of it: names and signatures here change without notice.
+#[doc(hidden)]
+pub mod internals {
+    /// See [`crate::geom`].
+    pub mod geom {
+        pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes};
+    }
+    /// See [`crate::spatial`].
+    pub mod spatial {
+        pub use crate::spatial::{
+            cloud_clean, cloud_surface, distance, morton, point_grid, scanner, visibility,
+        };
+    }
+    /// See [`crate::curve`].
+    pub mod curve {
+        pub use crate::curve::{ellipse, fit, lsq, order, series, trig};
+    }
+    /// See [`crate::section`].
+    pub mod section {
+        pub use crate::section::{cloud, girth, holes, mesh};
+    }
+    /// See [`crate::surface`].
+    pub mod surface {
+        pub use crate::surface::{cap, part, patch, skin, tessellate, transition};
+    }
+    /// See [`crate::segment`].
+    pub mod segment {
+        pub use crate::segment::*;
+    }
+    /// See [`crate::body`].
+    pub mod body {
+        pub use crate::body::*;
+    }
+    /// See [`crate::measure`].
+    pub mod measure {
+        pub use crate::measure::{compare, mesh, model};
+    }
+}

@@ -1,7 +1,8 @@
 //! The curve fit against exact answers and on the bundled real loops.
 
 use std::f64::consts::{PI, TAU};
-use trigbody_core::fit::{fit_in_frame, fit_loop, fit_loop_2d, FitError, FitOptions};
+use trigbody_core::internals::curve::fit::fit_in_frame;
+use trigbody_core::{fit_loop, fit_loop_2d, FitError, FitOptions};
 use trigbody_core::{Frame, OrderChoice, Parameterization, Point3, Real, TrigCurve, Vec2, Vec3};
 
 /// A deterministic pseudo-random stream in [-1, 1) (splitmix64).

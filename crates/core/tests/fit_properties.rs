@@ -3,7 +3,7 @@
 
 use proptest::prelude::*;
 use std::f64::consts::TAU;
-use trigbody_core::fit::{fit_loop, FitOptions};
+use trigbody_core::{fit_loop, FitOptions};
 use trigbody_core::{Frame, OrderChoice, Real, TrigCurve, Vec3};
 
 /// A star-shaped planted curve: a circle of radius 1 plus small harmonics,

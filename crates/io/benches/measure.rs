@@ -12,9 +12,11 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
-use trigbody_core::measure::{girths_and_volume, measure_mesh, MeasureOptions};
-use trigbody_core::measure_model::{measure_body, volume_area_extent, ModelMeasureOptions};
-use trigbody_core::segment::BodyGeometry;
+use trigbody_core::internals::measure::mesh::girths_and_volume;
+use trigbody_core::internals::measure::model::volume_area_extent;
+use trigbody_core::BodyGeometry;
+use trigbody_core::{measure_body, ModelMeasureOptions};
+use trigbody_core::{measure_mesh, MeasureOptions};
 use trigbody_core::{reconstruct, ReconstructOptions};
 use trigbody_io::{read_mesh, ReadOptions};
 

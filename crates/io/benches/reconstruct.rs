@@ -16,9 +16,10 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
-use trigbody_core::body::{measure, reconstruct, ReconstructOptions};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::segment::{segment, BodyGeometry, SegmentOptions};
+use trigbody_core::internals::body::measure;
+use trigbody_core::{reconstruct, ReconstructOptions};
+use trigbody_core::{segment, BodyGeometry, SegmentOptions};
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_io::{
     read_geometry, read_mesh, write_point_cloud, Geometry, ReadOptions, WriteOptions,
 };

@@ -5,12 +5,12 @@
 //! cargo run --release -p trigbody-io --example reconstruct_diag BODY
 //! ```
 
-use trigbody_core::body::PointGrid;
-use trigbody_core::body::{reconstruct, ReconstructOptions};
-use trigbody_core::distance::{sample_surface, DistanceStats, MeshDistance};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::segment::BodyGeometry;
+use trigbody_core::internals::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
+use trigbody_core::internals::spatial::point_grid::PointGrid;
+use trigbody_core::BodyGeometry;
+use trigbody_core::{reconstruct, ReconstructOptions};
 use trigbody_core::{tessellate_part, TessellationOptions};
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_io::{read_geometry, Geometry, ReadOptions};
 
 fn main() {

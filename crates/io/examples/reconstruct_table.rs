@@ -7,9 +7,9 @@
 
 use std::path::PathBuf;
 use std::time::Instant;
-use trigbody_core::body::{reconstruct, ReconstructOptions, Report};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::segment::BodyGeometry;
+use trigbody_core::BodyGeometry;
+use trigbody_core::{reconstruct, ReconstructOptions, Report};
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 
 fn row(name: &str, r: &Report, secs: f64) {

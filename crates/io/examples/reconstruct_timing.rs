@@ -13,9 +13,9 @@
 
 use std::path::PathBuf;
 use std::time::Instant;
-use trigbody_core::body::{reconstruct_with_progress, Progress, ReconstructOptions};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::segment::BodyGeometry;
+use trigbody_core::BodyGeometry;
+use trigbody_core::{reconstruct_with_progress, Progress, ReconstructOptions};
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_io::{read_geometry, read_mesh, Geometry, ReadOptions};
 
 fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {

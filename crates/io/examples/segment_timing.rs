@@ -12,7 +12,7 @@
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
-use trigbody_core::segment::{segment, BodyGeometry, SegmentOptions, Segmentation};
+use trigbody_core::{segment, BodyGeometry, SegmentOptions, Segmentation};
 use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 
 fn time(runs: usize, mut f: impl FnMut() -> Segmentation) -> (Duration, Duration, Segmentation) {

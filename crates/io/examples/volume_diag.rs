@@ -20,9 +20,10 @@
 //! soles) the mesh's loops at those heights. `CELL_MM` defaults to 1.
 
 use std::collections::BTreeMap;
-use trigbody_core::body::{reconstruct, Body, ReconstructOptions};
-use trigbody_core::measure_model::{measure_body, volume_area_extent, ModelMeasureOptions};
-use trigbody_core::segment::BodyGeometry;
+use trigbody_core::internals::measure::model::volume_area_extent;
+use trigbody_core::BodyGeometry;
+use trigbody_core::{measure_body, ModelMeasureOptions};
+use trigbody_core::{reconstruct, Body, ReconstructOptions};
 use trigbody_core::{tessellate_part, Mesh, Real, TessellationOptions, Vec3};
 use trigbody_io::{read_mesh, ReadOptions};
 
@@ -360,7 +361,7 @@ fn run() -> Result<(), String> {
         // The mesh's pockets seen by horizontal planes: loops lying inside
         // an odd number of others are holes of the section (the mouth's
         // cavity), which one curve per section cannot leave out.
-        use trigbody_core::section::{MeshSlicer, SectionOptions};
+        use trigbody_core::internals::section::mesh::{MeshSlicer, SectionOptions};
         let slicer =
             MeshSlicer::new(&mesh, f.up, &SectionOptions::default()).map_err(|e| e.to_string())?;
         let (a, b) = slicer.range();
@@ -405,7 +406,7 @@ fn run() -> Result<(), String> {
         );
     }
     if std::env::var("SECTIONS").is_ok() {
-        use trigbody_core::section::{section_mesh, Plane, SectionOptions};
+        use trigbody_core::internals::section::mesh::{section_mesh, Plane, SectionOptions};
         // Each horizontal part's fitted sections against the mesh loop they
         // were fitted to: area of the curve vs the polygon's.
         for p in &body.parts {
@@ -445,15 +446,17 @@ fn run() -> Result<(), String> {
                 // Refit the loop: as reconstruct does (its vertices), at the
                 // same order through the polygon resampled evenly, and at
                 // the highest order through the resampled polygon.
-                use trigbody_core::fit::{fit_loop, FitOptions, OrderChoice};
+                use trigbody_core::{fit_loop, FitOptions, OrderChoice};
                 let fo = FitOptions {
                     reference: Some(f.front),
                     normal: Some(f.up),
                     allow_non_planar: true,
                     ..FitOptions::default()
                 };
-                let dense =
-                    trigbody_core::section::resample_closed(&lp.points, 512.max(lp.points.len()));
+                let dense = trigbody_core::internals::section::mesh::resample_closed(
+                    &lp.points,
+                    512.max(lp.points.len()),
+                );
                 let carea = |c: &trigbody_core::TrigCurve| {
                     let sc = c.world_series();
                     let m = 2048;
@@ -530,7 +533,7 @@ fn run() -> Result<(), String> {
         }
     }
     if let Ok(levels) = std::env::var("LOOPS") {
-        use trigbody_core::section::{section_mesh, Plane, SectionOptions};
+        use trigbody_core::internals::section::mesh::{section_mesh, Plane, SectionOptions};
         for l in levels.split(',').filter_map(|x| x.parse::<Real>().ok()) {
             let o = f.origin + f.up * (low - f.origin.dot(f.up) + l);
             let plane = Plane::new(o, f.up).map_err(|e| e.to_string())?;

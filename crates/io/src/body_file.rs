@@ -1,10 +1,13 @@
-//! A reconstructed [`Body`] as a model file (version 5) and its [`Report`]
-//! as JSON.
+//! A reconstructed [`Body`] as a model file (version 5) and back, and its
+//! [`Report`] as JSON.
 
 use crate::model::{Model, ModelBody, ModelPart, ModelTransition};
 use serde_json::{json, Value};
-use trigbody_core::body::{Body, DistanceMm, Report};
-use trigbody_core::segment::PartName;
+use thiserror::Error;
+use trigbody_core::internals::body::DistanceMm;
+use trigbody_core::{
+    Body, BodyCavity, BodyFrame, BodyPart, BodyTransition, PartName, Report, Units,
+};
 
 /// The name a part has in model files and GLB nodes: `torso`, `head`,
 /// `left_arm`, `right_arm`, `left_leg`, `right_leg`, `left_foot`,
@@ -83,6 +86,97 @@ pub fn model_of_body(body: &Body) -> Model {
             })
             .collect(),
     }
+}
+
+/// Why a model is not a body ([`body_of_model`]).
+#[derive(Debug, Error, PartialEq)]
+pub enum BodyOfModelError {
+    /// A model of parts only (`trigbody loft`, model format 1).
+    #[error(
+        "a model of parts without a \"body\" object (e.g. from `trigbody loft`) has no body frame \
+         to measure; make a body model with `trigbody reconstruct`"
+    )]
+    NoBody,
+    /// Units other than m, cm, mm.
+    #[error("units \"{0}\" are not m, cm or mm")]
+    Units(String),
+    /// A cavity inside something that is not a body part.
+    #[error("part \"{part}\" is a cavity of \"{host}\", not a body part")]
+    CavityHost {
+        /// The cavity's name.
+        part: String,
+        /// The name it gives as its part.
+        host: String,
+    },
+    /// A part name no body has.
+    #[error(
+        "part \"{0}\" is not a body part (torso, head, left_arm, right_arm, left_leg, right_leg)"
+    )]
+    NotABodyPart(String),
+    /// A transition naming something that is not a body part.
+    #[error("transition names \"{0}\", not a body part")]
+    TransitionPart(String),
+}
+
+/// The body of a model, the inverse of [`model_of_body`]: its `body`
+/// frame and height, its parts by their file names ([`part_file_name`]),
+/// its cavities by the part they are in. A model without a `body` object
+/// (a loft) or with a part name no body has is refused. Section fits are
+/// not in model files: the parts come back without them.
+pub fn body_of_model(model: Model) -> Result<Body, BodyOfModelError> {
+    let frame = model.body.ok_or(BodyOfModelError::NoBody)?;
+    let units =
+        Units::from_symbol(&model.units).ok_or(BodyOfModelError::Units(model.units.clone()))?;
+    let named = |n: &str| {
+        PartName::ALL
+            .iter()
+            .copied()
+            .find(|k| part_file_name(*k) == n)
+    };
+    let mut parts = Vec::with_capacity(model.parts.len());
+    let mut cavities = Vec::new();
+    for p in model.parts {
+        if let Some(host) = &p.cavity_of {
+            let within = named(host).ok_or_else(|| BodyOfModelError::CavityHost {
+                part: p.name.clone(),
+                host: host.clone(),
+            })?;
+            cavities.push(BodyCavity {
+                within,
+                part: p.part,
+                fits: Vec::new(),
+            });
+            continue;
+        }
+        let name = named(&p.name).ok_or_else(|| BodyOfModelError::NotABodyPart(p.name.clone()))?;
+        parts.push(BodyPart {
+            name,
+            part: p.part,
+            fits: Vec::new(),
+        });
+    }
+    let mut transitions = Vec::with_capacity(model.transitions.len());
+    for t in model.transitions {
+        let end = |n: &str| named(n).ok_or_else(|| BodyOfModelError::TransitionPart(n.into()));
+        transitions.push(BodyTransition {
+            from: end(&t.from)?,
+            to: end(&t.to)?,
+            transition: t.transition,
+        });
+    }
+    Ok(Body {
+        transitions,
+        cavities,
+        units,
+        frame: BodyFrame {
+            up: frame.up,
+            front: frame.front,
+            left: frame.left,
+            origin: frame.origin,
+        },
+        height: frame.height,
+        parts,
+    })
 }
 
 fn mm(d: &DistanceMm) -> Value {

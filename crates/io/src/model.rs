@@ -43,8 +43,10 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::io::{Read, Write};
 use thiserror::Error;
-use trigbody_core::tessellate::TessellateError;
-use trigbody_core::transition::{Seam, SideCut, Transition, TransitionError, TransitionSpec};
+use trigbody_core::internals::surface::transition::{
+    Seam, SideCut, Transition, TransitionError, TransitionSpec,
+};
+use trigbody_core::TessellateError;
 use trigbody_core::{
     tessellate_part, CapKind, Frame, Mesh, Part, PartError, PartOptions, Skinning,
     TessellationOptions, TrigCurve, Vec3,
@@ -73,7 +75,7 @@ pub struct ModelPart {
     /// The skinned part.
     pub part: Part,
     /// For a cavity (a pocket of skin inside another part, such as a
-    /// modelled mouth: [`trigbody_core::body::BodyCavity`]), the name of
+    /// modelled mouth: [`trigbody_core::BodyCavity`]), the name of
     /// the part it lies in. Its surface faces into the pocket (tessellated
     /// turned inside out) and its solid is empty space (version 5).
     pub cavity_of: Option<String>,
@@ -95,7 +97,7 @@ pub struct ModelBody {
 }
 
 /// A transition surface between two named parts (see
-/// [`trigbody_core::transition`]); rebuilt from the parts and its spec.
+/// [`trigbody_core::internals::surface::transition`]); rebuilt from the parts and its spec.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelTransition {
     /// The part where the transition starts (`u = 0`).
@@ -158,14 +160,14 @@ pub enum Skin {
     /// one runs on inside the other).
     #[default]
     Whole,
-    /// The outer skin ([`trigbody_core::skin`]): each piece's triangles
+    /// The outer skin ([`trigbody_core::internals::surface::skin`]): each piece's triangles
     /// inside another piece left out.
     Outer,
 }
 
 /// The pieces of [`Model::tessellate_pieces`] trimmed to `skin`: for
 /// [`Skin::Outer`], with the depth tolerance 0.0003 × the body's height
-/// (the report's, [`trigbody_core::body::ReconstructOptions::skin_depth`]),
+/// (the report's, [`trigbody_core::ReconstructOptions::skin_depth`]),
 /// or × the pieces' bounding-box diagonal for a model without a body.
 pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Vec<(String, Mesh)> {
     if skin == Skin::Whole {
@@ -175,7 +177,7 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
         trigbody_core::Aabb::from_points(pieces.iter().flat_map(|(_, m)| &m.positions))
             .map_or(0.0, |b| b.diagonal())
     });
-    let depth = trigbody_core::body::ReconstructOptions::default().skin_depth * scale;
+    let depth = trigbody_core::ReconstructOptions::default().skin_depth * scale;
     // A cavity lies inside its part and bounds empty space there: it is on
     // the outer skin whole, and nothing is inside it.
     let cavity = |name: &str| {
@@ -191,9 +193,12 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
         .iter()
         .map(|&i| std::mem::take(&mut meshes[i]))
         .collect();
-    for (i, trimmed) in solid
-        .into_iter()
-        .zip(trigbody_core::skin::outer_pieces(&solids, depth))
+    for (i, trimmed) in
+        solid
+            .into_iter()
+            .zip(trigbody_core::internals::surface::skin::outer_pieces(
+                &solids, depth,
+            ))
     {
         meshes[i] = trimmed;
     }
@@ -203,11 +208,8 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
 /// The pieces of [`Model::tessellate_pieces`] in one mesh (indices
 /// shifted; normals kept when every piece has them).
 pub fn merge_pieces(pieces: &[(String, Mesh)]) -> Mesh {
-    let mut out = Mesh::default();
-    for (_, m) in pieces {
-        trigbody_core::body::append_mesh(&mut out, m);
-    }
-    out
+    let meshes: Vec<&Mesh> = pieces.iter().map(|(_, m)| m).collect();
+    trigbody_core::internals::geom::mesh::concatenate(&meshes).0
 }
 
 /// A part of a model that could not be tessellated.
@@ -353,7 +355,7 @@ struct SkinningRecord {
 }
 
 fn default_k() -> usize {
-    trigbody_core::part::DEFAULT_CURVES_PER_PATCH
+    trigbody_core::internals::surface::part::DEFAULT_CURVES_PER_PATCH
 }
 fn default_true() -> bool {
     true

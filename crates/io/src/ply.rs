@@ -735,7 +735,7 @@ fn read_vertex_records<const BIG: bool>(
     if sink.with_normals {
         // Positions and normals side by side on two cores: most of the
         // time is the first touch of the two fresh arrays' pages.
-        let (positions, normals) = trigbody_core::distance::join(
+        let (positions, normals) = trigbody_core::internals::geom::parallel::join(
             || {
                 records
                     .clone()

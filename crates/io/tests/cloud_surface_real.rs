@@ -1,16 +1,16 @@
 //! Ground truth for the distance to a scan's surface
-//! (`trigbody_core::cloud_surface`): the built-in body's mesh measured
+//! (`trigbody_core::internals::spatial::cloud_surface`): the built-in body's mesh measured
 //! against its own 200 000-point virtual scan. The mesh is the surface the
 //! scan samples, so what a distance to the scan says about it is the
 //! distance's own error: the nearest-point distance gives the point
 //! spacing, the distance to the surface must give the scanner's noise or
 //! less. Printed with `--nocapture`.
 
-use trigbody_core::body::PointGrid;
-use trigbody_core::cloud_surface::CloudSurface;
-use trigbody_core::distance::sample_surface;
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
+use trigbody_core::internals::spatial::cloud_surface::CloudSurface;
+use trigbody_core::internals::spatial::distance::sample_surface;
+use trigbody_core::internals::spatial::point_grid::PointGrid;
 use trigbody_core::Real;
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_io::{read_mesh, ReadOptions};
 
 fn rms(d: &[Real]) -> Real {

@@ -10,7 +10,7 @@ mod common;
 
 use common::shared_data;
 use std::time::Instant;
-use trigbody_core::measure::{measure_mesh, MeasureOptions, MeasurementKind};
+use trigbody_core::{measure_mesh, MeasureOptions, MeasurementKind};
 use trigbody_io::{read_mesh, ReadOptions};
 
 #[test]
@@ -136,8 +136,9 @@ fn measurements_do_not_depend_on_placement_or_vertex_order() {
 /// which one curve per section fills: docs/measure.md).
 #[test]
 fn model_girths_volume_and_area_agree_with_the_input_mesh() {
-    use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};
-    use trigbody_core::segment::BodyGeometry;
+    use trigbody_core::internals::measure::model::compare_with_mesh;
+    use trigbody_core::BodyGeometry;
+    use trigbody_core::{measure_body, ModelMeasureOptions};
     use trigbody_core::{reconstruct, ReconstructOptions};
     let Some(data) = shared_data() else { return };
     let mut names: Vec<_> = std::fs::read_dir(data.join("bodies"))

@@ -1,6 +1,6 @@
 //! The model file: exact round trips and clear errors for bad input.
 
-use trigbody_core::part::PartError;
+use trigbody_core::PartError;
 use trigbody_core::{CapKind, Frame, Part, PartOptions, Skinning, TrigCurve, Vec3};
 use trigbody_io::model::{read_curves, read_model, write_model, Model, ModelError, ModelPart};
 
@@ -305,7 +305,9 @@ fn version_2_body_frame_round_trips_and_version_1_still_reads() {
 
 #[test]
 fn transitions_round_trip_and_bad_ones_are_refused() {
-    use trigbody_core::transition::{Seam, SideCut, Transition, TransitionSpec};
+    use trigbody_core::internals::surface::transition::{
+        Seam, SideCut, Transition, TransitionSpec,
+    };
     use trigbody_io::model::ModelTransition;
     let mut m = model(&PartOptions::default());
     let (from, to) = (&m.parts[0].part, &m.parts[1].part);
@@ -429,5 +431,61 @@ fn cavities_round_trip_face_inward_and_must_name_their_part() {
     assert!(
         err.to_string().contains("leg_left_cavity") && err.to_string().contains("arm"),
         "{err}"
+    );
+}
+
+/// A body becomes a model and comes back the same (without section fits,
+/// which model files do not hold); models that are not bodies are refused
+/// with what is wrong.
+#[test]
+fn body_to_model_and_back() {
+    use trigbody_core::{Body, BodyCavity, BodyFrame, BodyPart, PartName, Units};
+    use trigbody_io::body_file::{body_of_model, model_of_body, BodyOfModelError};
+    let part = Part::new(sections(), &PartOptions::default()).unwrap();
+    let body = Body {
+        parts: vec![
+            BodyPart {
+                name: PartName::Torso,
+                part: part.clone(),
+                fits: Vec::new(),
+            },
+            BodyPart {
+                name: PartName::Head,
+                part: part.clone(),
+                fits: Vec::new(),
+            },
+        ],
+        transitions: Vec::new(),
+        cavities: vec![BodyCavity {
+            within: PartName::Head,
+            part: part.clone(),
+            fits: Vec::new(),
+        }],
+        units: Units::Millimetres,
+        frame: BodyFrame {
+            up: Vec3::Z,
+            front: Vec3::Y,
+            left: Vec3::new(-1.0, 0.0, 0.0),
+            origin: Vec3::new(0.0, 0.0, 0.0),
+        },
+        height: 1.7,
+    };
+    let model = round_trip(&model_of_body(&body));
+    assert_eq!(body_of_model(model.clone()), Ok(body));
+    let mut loft = model.clone();
+    loft.body = None;
+    assert_eq!(body_of_model(loft), Err(BodyOfModelError::NoBody));
+    let mut renamed = model.clone();
+    renamed.parts[0].name = "tail".into();
+    let e = body_of_model(renamed).unwrap_err();
+    assert_eq!(e, BodyOfModelError::NotABodyPart("tail".into()));
+    assert!(e
+        .to_string()
+        .starts_with("part \"tail\" is not a body part (torso, head,"));
+    let mut inches = model;
+    inches.units = "in".into();
+    assert_eq!(
+        body_of_model(inches).unwrap_err().to_string(),
+        "units \"in\" are not m, cm or mm"
     );
 }

@@ -12,9 +12,10 @@
 //! was measured, so a regression fails while the open accuracy targets
 //! stay visible.
 
-use trigbody_core::body::{reconstruct, Body, ReconstructOptions, Report};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::segment::{segment, BodyGeometry, PartAxis, PartName, SegmentOptions};
+use trigbody_core::internals::segment::PartAxis;
+use trigbody_core::{reconstruct, Body, ReconstructOptions, Report};
+use trigbody_core::{segment, BodyGeometry, PartName, SegmentOptions};
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_core::{Mesh, Point3, Real, Vec3};
 use trigbody_io::{read_mesh, ReadOptions};
 

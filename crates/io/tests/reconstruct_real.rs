@@ -13,12 +13,14 @@
 mod common;
 
 use common::shared_data;
-use trigbody_core::body::{reconstruct, Body, ReconstructError, ReconstructOptions, Report, Units};
-use trigbody_core::distance::{sample_surface, DistanceStats, MeshDistance};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::segment::{BodyGeometry, PartName, SegmentError};
-use trigbody_core::skin::{concatenate, outer_triangles};
-use trigbody_core::{shapes, Mesh, PointCloud, TessellationOptions, Vec3};
+use trigbody_core::internals::geom::mesh::concatenate;
+use trigbody_core::internals::geom::shapes;
+use trigbody_core::internals::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
+use trigbody_core::internals::surface::skin::outer_triangles;
+use trigbody_core::{reconstruct, Body, ReconstructError, ReconstructOptions, Report, Units};
+use trigbody_core::{virtual_scan, ScannerOptions};
+use trigbody_core::{BodyGeometry, PartName, SegmentError};
+use trigbody_core::{Mesh, PointCloud, TessellationOptions, Vec3};
 use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 
 fn print_row(name: &str, r: &Report) {

@@ -9,10 +9,10 @@
 mod common;
 
 use common::shared_data;
-use trigbody_core::fit::{fit_loop, FitOptions, OrderChoice};
-use trigbody_core::scan_section::{CloudSlicer, ScanSectionOptions};
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::section::{MeshSlicer, SectionLoop, SectionOptions};
+use trigbody_core::internals::section::cloud::{CloudSlicer, ScanSectionOptions};
+use trigbody_core::internals::section::mesh::{MeshSlicer, SectionLoop, SectionOptions};
+use trigbody_core::{fit_loop, FitOptions, OrderChoice};
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_core::{Mesh, Point3, PointCloud, Vec2, Vec3};
 use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 
@@ -280,7 +280,7 @@ fn quarter_loop_holes_are_bridged_by_the_fit() {
                     start + 90.0,
                     sl.max_gap * 1e3
                 );
-                let default = trigbody_core::scan_section::DEFAULT_SCAN_SMOOTHING;
+                let default = trigbody_core::internals::section::cloud::DEFAULT_SCAN_SMOOTHING;
                 let mut results = Vec::new();
                 for (order, label) in [
                     (OrderChoice::Fixed(mf.order), "mesh's J"),

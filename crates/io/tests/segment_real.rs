@@ -9,10 +9,9 @@
 mod common;
 
 use common::shared_data;
-use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-use trigbody_core::segment::{
-    cut_part, segment, BodyGeometry, LandmarkKind, PartName, SegmentOptions, Segmentation,
-};
+use trigbody_core::internals::segment::cut_part;
+use trigbody_core::{segment, BodyGeometry, LandmarkKind, PartName, SegmentOptions, Segmentation};
+use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_core::{Mesh, Point3, PointCloud, Vec3};
 use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 
@@ -438,9 +437,9 @@ fn perpendicular_cuts_of_parts() {
         let arm = s.part(PartName::LeftArm).unwrap();
         let cut = cut_part(body, &s, PartName::LeftArm, 0.5, &opts).unwrap();
         let (p, _) = arm.point_and_tangent(0.5).unwrap();
-        let horizontal = trigbody_core::section::section_mesh(
+        let horizontal = trigbody_core::internals::section::mesh::section_mesh(
             &mesh,
-            &trigbody_core::section::Plane::new(p, s.frame.up).unwrap(),
+            &trigbody_core::internals::section::mesh::Plane::new(p, s.frame.up).unwrap(),
             &Default::default(),
         )
         .unwrap();

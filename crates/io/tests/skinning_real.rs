@@ -19,9 +19,9 @@
 mod common;
 
 use common::shared_data;
-use trigbody_core::distance::MeshDistance;
-use trigbody_core::fit::{fit_loop, FitOptions};
-use trigbody_core::section::{MeshSlicer, SectionLoop, SectionOptions};
+use trigbody_core::internals::section::mesh::{MeshSlicer, SectionLoop, SectionOptions};
+use trigbody_core::internals::spatial::distance::MeshDistance;
+use trigbody_core::{fit_loop, FitOptions};
 use trigbody_core::{
     tessellate_part, Mesh, Part, PartOptions, Point3, Skinning, TessellationOptions, TrigCurve,
     Vec3,

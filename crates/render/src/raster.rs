@@ -416,21 +416,7 @@ pub fn render_mesh_values(
 /// triangles `abc` at `v` (the cross product's length is twice the area, so
 /// large faces count more). A vertex whose sum vanishes gets the zero vector.
 pub fn area_weighted_normals(mesh: &Mesh) -> Vec<Vec3> {
-    let mut normals = vec![Vec3::ZERO; mesh.positions.len()];
-    for t in &mesh.triangles {
-        let [a, b, c] = t.map(|i| mesh.positions.get(i as usize).copied());
-        let (Some(a), Some(b), Some(c)) = (a, b, c) else {
-            continue;
-        };
-        let n = (b - a).cross(c - a);
-        for &i in t {
-            normals[i as usize] += n;
-        }
-    }
-    for n in &mut normals {
-        *n = n.normalized().unwrap_or(Vec3::ZERO);
-    }
-    normals
+    mesh.vertex_normals()
 }
 
 /// The camera of one view: orthonormal `(r, s, w)`.

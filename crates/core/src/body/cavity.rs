@@ -38,7 +38,7 @@
 //! solids. Its outward side (away from the body's solid) faces into the
 //! pocket, opposite to a part's ([`Body::tessellate_pieces`] flips it);
 //! its volume is subtracted from the body's and its area added
-//! ([`crate::measure_model`]).
+//! (the model's measurement).
 //!
 //! Only meshes have cavities: a scanner does not see inside a closed
 //! pocket, and a cloud slab's nested outlines are not surface. A loop
@@ -148,7 +148,7 @@ pub(super) fn find_cavities(
             .unwrap_or_default()
     };
     let levels =
-        crate::distance::parallel_map(&ts, 4, |run| run.iter().map(|&t| nested(t)).collect());
+        crate::geom::parallel::parallel_map(&ts, 4, |run| run.iter().map(|&t| nested(t)).collect());
     // Runs of nested loops from level to level.
     let mut runs: Vec<Vec<Found>> = Vec::new();
     for (k, found) in levels.into_iter().enumerate() {
@@ -237,7 +237,7 @@ fn dome_reaching(curve: &TrigCurve, tip: Point3) -> CapKind {
     CapKind::Dome {
         relative_height: plan::height_to_reach(curve, tip).unwrap_or(0.02),
         fullness: 1.0,
-        axis: crate::cap::DomeAxis::Normal,
+        axis: crate::surface::cap::DomeAxis::Normal,
     }
 }
 
@@ -308,7 +308,7 @@ fn build_cavity(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::{merge, stick_body, uv_sphere};
+    use crate::geom::shapes::{merge, stick_body, uv_sphere};
 
     /// The stick body with a hollow inside its head: a sphere of radius
     /// `r` turned inside out (a pocket of skin, as a mouth's lining), with
@@ -334,7 +334,9 @@ mod tests {
         assert_eq!(c.within, PartName::Head);
         assert!(c.fits.len() >= MIN_SECTIONS, "{}", c.fits.len());
         // Its surface lies on the sphere, and its domes reach the poles.
-        let m = crate::tessellate_part(&c.part, &TessellationOptions::default()).unwrap();
+        let m =
+            crate::surface::tessellate::tessellate_part(&c.part, &TessellationOptions::default())
+                .unwrap();
         let centre = Vec3::new(0.0, 0.0, 1.55);
         for p in &m.positions {
             let off = (p.distance(centre) - r).abs();
@@ -350,7 +352,7 @@ mod tests {
         assert!((hi - (1.55 + r)).abs() < 0.15 * r, "{hi}");
         // Its volume is the sphere's within 2 % (measured 0.7 %), and the
         // tessellation turned inside out encloses it negatively.
-        let v = crate::measure_model::volume_area_extent(&Body {
+        let v = crate::measure::model::volume_area_extent(&Body {
             cavities: Vec::new(),
             transitions: Vec::new(),
             parts: vec![BodyPart {
@@ -385,9 +387,9 @@ mod tests {
         assert!(b.cavities.is_empty());
         // A scanner sees no pocket inside a head, and a cloud's nested
         // slab outlines are not surface: none is looked for.
-        let cloud = crate::scanner::virtual_scan(
+        let cloud = crate::spatial::scanner::virtual_scan(
             &hollow_head(0.05),
-            &crate::scanner::ScannerOptions::default(),
+            &crate::spatial::scanner::ScannerOptions::default(),
         )
         .unwrap()
         .cloud;

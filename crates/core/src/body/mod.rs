@@ -41,7 +41,7 @@
 //!    Sections whose loop cannot be cut or fitted are skipped with a
 //!    warning; when two consecutive planes cross inside the curves (where a
 //!    tilted axis turns), the later section is dropped.
-//! 4. **Transitions** ([`crate::transition`], method.md §6): each leg's
+//! 4. **Transitions** ([`crate::surface::transition`], method.md §6): each leg's
 //!    first section joins its half of the torso's first curve (split at
 //!    the crotch by the plane normal to the body's left axis, closed by a
 //!    seam dipping to the crotch's level) through a Hermite surface with
@@ -62,22 +62,22 @@
 //! fractions of `H`; [`ReconstructOptions::units`] only converts the
 //! report's distances to millimetres.
 
-use crate::cap::CapKind;
-use crate::cloud_clean::{clean_cloud, CleanOptions};
-use crate::curve::TrigCurve;
-use crate::distance::{each_on_cores, sample_surface, DistanceStats, MeshDistance};
-use crate::fit::{fit_loop, FitOptions, LoopFit};
-use crate::math::{Point3, Real, Vec3};
-use crate::mesh::{Mesh, PointCloud};
-use crate::part::{Part, PartError, PartOptions};
-use crate::scan_section::scan_fit_options;
-use crate::section::SectionLoop;
-use crate::segment::{
-    segment, BodyFrame, BodyGeometry, Cutter, LandmarkKind, PartAxis, PartName, SegmentError,
-    SegmentOptions, Segmentation,
-};
-use crate::tessellate::{tessellate_part, TessellateError, TessellationOptions};
-use crate::transition::{fit_magnitudes, Seam, SideCut, Transition, TransitionSpec};
+use crate::anatomy::{BodyFrame, BodyGeometry, LandmarkKind, PartName};
+use crate::curve::fit::{fit_loop, FitOptions, LoopFit};
+use crate::curve::trig::TrigCurve;
+use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::mesh::{Mesh, PointCloud};
+use crate::geom::parallel::each_on_cores;
+use crate::section::cloud::scan_fit_options;
+use crate::section::mesh::SectionLoop;
+use crate::segment::{segment, Cutter, PartAxis, SegmentError, SegmentOptions, Segmentation};
+use crate::spatial::cloud_clean::{clean_cloud, CleanOptions};
+use crate::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
+use crate::spatial::point_grid::PointGrid;
+use crate::surface::cap::CapKind;
+use crate::surface::part::{Part, PartError, PartOptions};
+use crate::surface::tessellate::{tessellate_part, TessellateError, TessellationOptions};
+use crate::surface::transition::{fit_magnitudes, Seam, SideCut, Transition, TransitionSpec};
 use std::fmt;
 use thiserror::Error;
 
@@ -191,7 +191,7 @@ pub struct ReconstructOptions {
     /// Coverage distance in millimetres: an input point is covered when the
     /// model passes within it. Default 5.
     pub coverage_mm: Real,
-    /// The report measures the model's outer skin ([`crate::skin`]): a
+    /// The report measures the model's outer skin ([`crate::surface::skin`]): a
     /// triangle of one piece is left out when its centroid lies inside
     /// another piece deeper than this fraction of the height. Default
     /// 0.0003 (0.5 mm on 1.73 m: where two pieces' surfaces nearly
@@ -286,7 +286,7 @@ pub struct BodyPart {
 }
 
 /// A transition surface between two parts of a body (see
-/// [`crate::transition`]): `u = 0` on `from`, `u = 1` on `to`.
+/// [`crate::surface::transition`]): `u = 0` on `from`, `u = 1` on `to`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BodyTransition {
     pub from: PartName,
@@ -345,7 +345,7 @@ impl Body {
     /// Tessellates every part, then every transition, then every cavity
     /// into one mesh (in that order), the pieces taken by the cores as they come free.
     pub fn tessellate(&self, options: &TessellationOptions) -> Result<Mesh, ReconstructError> {
-        Ok(crate::skin::concatenate(&self.tessellate_pieces(options)?).0)
+        Ok(crate::geom::mesh::concatenate(&self.tessellate_pieces(options)?).0)
     }
 
     /// Every part's tessellation, then every transition's, then every
@@ -386,22 +386,6 @@ impl Body {
         .into_iter()
         .collect()
     }
-}
-
-/// Appends `m` to `out` (indices shifted).
-pub fn append_mesh(out: &mut Mesh, m: &Mesh) {
-    let base = out.positions.len() as u32;
-    out.positions.extend_from_slice(&m.positions);
-    match (&mut out.normals, &m.normals) {
-        (Some(n), Some(mn)) => n.extend_from_slice(mn),
-        (n @ None, Some(mn)) if base == 0 => *n = Some(mn.clone()),
-        (n, _) => *n = None,
-    }
-    out.triangles.extend(
-        m.triangles
-            .iter()
-            .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
-    );
 }
 
 fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
@@ -794,7 +778,7 @@ fn reconstruct_steps(
     Ok((model, report))
 }
 
-/// Builds the transitions (method.md §6, [`crate::transition`]): each leg's
+/// Builds the transitions (method.md §6, [`crate::surface::transition`]): each leg's
 /// first section to its half of the torso's first curve, split at the
 /// crotch by the plane normal to the body's left axis (the two legs'
 /// transitions close the torso's bottom); each arm on the torso's side
@@ -840,7 +824,7 @@ fn assemble(
     // Transitions from several parts over the cores, results in order; a
     // side transition with its RMS distance to the input.
     let build_all = |specs: &[(usize, TransitionSpec)], parts: &[BodyPart]| {
-        crate::distance::parallel_map(specs, 1, |run| {
+        crate::geom::parallel::parallel_map(specs, 1, |run| {
             run.iter()
                 .map(|&(from, spec)| {
                     let built = build(from, spec, parts);
@@ -1052,7 +1036,7 @@ mod tests {
 
     #[test]
     fn progress_counts_every_step_and_ends_at_its_total() {
-        let body = crate::shapes::stick_body(1);
+        let body = crate::geom::shapes::stick_body(1);
         let mut seen: Vec<(String, usize, usize)> = Vec::new();
         reconstruct_with_progress(
             BodyGeometry::Mesh(&body),
@@ -1077,7 +1061,7 @@ mod tests {
 
     #[test]
     fn sphere_is_a_clear_error() {
-        let m = crate::shapes::uv_sphere(Vec3::ZERO, 1.0, 32, 16);
+        let m = crate::geom::shapes::uv_sphere(Vec3::ZERO, 1.0, 32, 16);
         let e = reconstruct(BodyGeometry::Mesh(&m), &ReconstructOptions::default()).unwrap_err();
         assert!(
             matches!(e, ReconstructError::Segment(SegmentError::NoUpAxis { .. })),

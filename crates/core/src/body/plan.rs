@@ -1,9 +1,9 @@
 //! Cutting, fitting, refining and skinning each part (pipeline steps 2-3).
 
 use super::*;
-use crate::cap::{dome_cap, Cap, DomeAxis};
-use crate::distance::parallel_map;
-use crate::part::Segment;
+use crate::geom::parallel::parallel_map;
+use crate::surface::cap::{dome_cap, Cap, DomeAxis};
+use crate::surface::part::Segment;
 
 /// One cut-and-fitted section.
 pub(super) struct Cut {
@@ -104,7 +104,7 @@ fn with_tape_girth(
     fo: &FitOptions,
     tolerance: Real,
 ) -> LoopFit {
-    use crate::girth::polygon_tape_girth;
+    use crate::section::girth::polygon_tape_girth;
     let target = polygon_tape_girth(&outline.plane_points());
     if !(target > 0.0) {
         return fit;
@@ -117,7 +117,7 @@ fn with_tape_girth(
     while best.0 > tolerance && order < limit {
         order += 1;
         let fixed = FitOptions {
-            order: crate::fit::OrderChoice::Fixed(order),
+            order: crate::curve::fit::OrderChoice::Fixed(order),
             ..*fo
         };
         let Ok(f) = fit_loop(points, &fixed) else {
@@ -196,7 +196,8 @@ pub(super) fn torso_without_arms(
         // The loop projected once, not once per axis point (`contains`).
         let poly = out.plane_points();
         let runs_out = axis.points.iter().step_by(step).any(|&p| {
-            (p - a).dot(d) > reach && crate::section::point_in_polygon(out.frame.to_plane(p), &poly)
+            (p - a).dot(d) > reach
+                && crate::section::mesh::point_in_polygon(out.frame.to_plane(p), &poly)
         });
         let level = (out.frame.origin - a).dot(seg.frame.up) / seg.height;
         let side =
@@ -375,7 +376,7 @@ pub(super) fn fit_untangled(points: &[Point3], fo: &FitOptions) -> Result<LoopFi
     let mut tries = 0;
     loop {
         match fit_loop(&pts, fo) {
-            Err(crate::fit::FitError::SelfCrossing { first, second, .. })
+            Err(crate::curve::fit::FitError::SelfCrossing { first, second, .. })
                 if tries < 8 && pts.len() > 8 =>
             {
                 let n = pts.len();
@@ -479,7 +480,7 @@ pub(super) fn cut_to_rounded_end(
     let ts = &ts[..ts.len().saturating_sub(1)];
     // Cut a few planes ahead over the cores, then walk them in order: the
     // cuts past the end (at most one batch) are made and dropped.
-    let batch = std::thread::available_parallelism().map_or(1, |c| c.get().clamp(1, 8));
+    let batch = rayon::current_num_threads().clamp(1, 8);
     for chunk in ts.chunks(batch) {
         let cuts = parallel_map(chunk, 1, |run| {
             run.iter()
@@ -884,7 +885,7 @@ fn near_end(cuts: &[Cut], tip: Point3, points: &[Point3]) -> Option<Vec<Point3>>
 /// The dome fullnesses [`shaped_end`] tries besides 1.
 const DOME_FULLNESS: [Real; 2] = [1.5, 2.0];
 
-/// The shape of a hand's dome (module doc of [`crate::cap`]) that fits
+/// The shape of a hand's dome (module doc of [`crate::surface::cap`]) that fits
 /// the input best both ways ([`end_error`]): its fullness (wider across the
 /// hand towards the tip) from 1 and [`DOME_FULLNESS`], and its axis (the
 /// part's end tangent or the last section's normal), each end built from
@@ -1021,10 +1022,10 @@ pub(super) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
 
 /// `n` points of a space curve at `v_i = 2π i/n`, all three series summed
 /// over one table of harmonics per point (one `sin_cos` per point).
-fn curve_points(curve: &crate::curve::SpaceCurve, n: usize) -> Vec<Point3> {
+fn curve_points(curve: &crate::curve::trig::SpaceCurve, n: usize) -> Vec<Point3> {
     let order = curve.order();
     let (mut co, mut si) = (vec![0.0; order + 1], vec![0.0; order + 1]);
-    let sum = |s: &crate::series::Series, co: &[Real], si: &[Real]| {
+    let sum = |s: &crate::curve::series::Series, co: &[Real], si: &[Real]| {
         let c = &s.c;
         let mut acc = c.first().copied().unwrap_or(0.0);
         for j in 1..=s.order() {
@@ -1034,7 +1035,7 @@ fn curve_points(curve: &crate::curve::SpaceCurve, n: usize) -> Vec<Point3> {
     };
     (0..n)
         .map(|i| {
-            crate::series::harmonics(
+            crate::curve::series::harmonics(
                 std::f64::consts::TAU * i as Real / n as Real,
                 order,
                 &mut co,
@@ -1059,7 +1060,7 @@ fn curve_points(curve: &crate::curve::SpaceCurve, n: usize) -> Vec<Point3> {
 /// half-length `h` is only measured when `|q − m| < d + h` (every point of
 /// the edge lies within `h` of `m`); the edges sorted by `m_x` limit the
 /// candidates to `|m_x − q_x| ≤ d + h_max` by binary search.
-pub(super) fn stray(cut: &Cut, curve: &crate::curve::SpaceCurve) -> Real {
+pub(super) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) -> Real {
     let f = &cut.fit.curve.frame;
     let n = 256;
     let poly: Vec<(Real, Real)> = curve_points(curve, n)
@@ -1310,7 +1311,7 @@ pub(super) fn refine(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::girth::polygon_tape_girth;
+    use crate::section::girth::polygon_tape_girth;
 
     /// A body 1.7 high (up = z, left = x) with a left arm hanging at 45°
     /// from a shoulder end at (0.2, 0, 1.3), its armpit at 1.27: a torso
@@ -1323,7 +1324,7 @@ mod tests {
     #[test]
     fn a_torso_loop_above_the_armpit_stops_inside_the_hanging_arm() {
         let h = 1.7;
-        let landmark = |kind, position: Point3| crate::segment::Landmark {
+        let landmark = |kind, position: Point3| crate::anatomy::Landmark {
             kind,
             position,
             height_fraction: position.z / h,
@@ -1334,7 +1335,7 @@ mod tests {
         let t0 = Vec3::new(1.0, 0.0, -1.0).normalized().unwrap();
         let wrist = p0 + t0 * 0.5;
         let seg = Segmentation {
-            frame: crate::segment::BodyFrame {
+            frame: crate::anatomy::BodyFrame {
                 up: Vec3::new(0.0, 0.0, 1.0),
                 front: Vec3::new(0.0, -1.0, 0.0),
                 left: Vec3::new(1.0, 0.0, 0.0),

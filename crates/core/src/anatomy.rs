@@ -1,0 +1,121 @@
+//! The body's vocabulary shared by segmentation, reconstruction and
+//! measurement: the input geometry, the body's frame, its landmarks and
+//! its parts.
+
+use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::mesh::{Mesh, PointCloud};
+use std::fmt;
+
+/// The geometry to segment: a surface or a cloud of scanned points.
+#[derive(Clone, Copy, Debug)]
+pub enum BodyGeometry<'a> {
+    Mesh(&'a Mesh),
+    Cloud(&'a PointCloud),
+}
+
+impl BodyGeometry<'_> {
+    /// The vertices or points.
+    pub fn positions(&self) -> &[Point3] {
+        match self {
+            BodyGeometry::Mesh(m) => &m.positions,
+            BodyGeometry::Cloud(c) => &c.positions,
+        }
+    }
+}
+
+/// The body's own frame: orthonormal, right-handed (`left = up × front`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyFrame {
+    pub up: Vec3,
+    pub front: Vec3,
+    pub left: Vec3,
+    /// The point on the floor (the soles' plane) below the crotch.
+    pub origin: Point3,
+}
+
+/// The named places the segmentation finds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum LandmarkKind {
+    HeadTop,
+    Neck,
+    LeftArmpit,
+    RightArmpit,
+    Crotch,
+    LeftWrist,
+    RightWrist,
+    LeftHandTip,
+    RightHandTip,
+    LeftAnkle,
+    RightAnkle,
+    LeftSole,
+    RightSole,
+    LeftHeel,
+    RightHeel,
+    LeftToe,
+    RightToe,
+    LeftShoulder,
+    RightShoulder,
+}
+
+impl fmt::Display for LandmarkKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(self, f)
+    }
+}
+
+/// A landmark: where, how high, and how it was found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Landmark {
+    pub kind: LandmarkKind,
+    pub position: Point3,
+    /// Height above the soles along `up`, as a fraction of `H`.
+    pub height_fraction: Real,
+    /// 0..1: how clear the evidence was (1: a graph junction or an end;
+    /// for girth minima, the relative depth of the minimum).
+    pub confidence: Real,
+    /// How it was found, in words.
+    pub how: &'static str,
+}
+
+/// The parts of a body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum PartName {
+    Torso,
+    Head,
+    LeftArm,
+    RightArm,
+    LeftLeg,
+    RightLeg,
+    LeftFoot,
+    RightFoot,
+}
+
+impl PartName {
+    /// Every part, in the order the segmentation reports them.
+    pub const ALL: [PartName; 8] = [
+        PartName::Torso,
+        PartName::Head,
+        PartName::LeftArm,
+        PartName::RightArm,
+        PartName::LeftLeg,
+        PartName::RightLeg,
+        PartName::LeftFoot,
+        PartName::RightFoot,
+    ];
+}
+
+impl fmt::Display for PartName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = match self {
+            PartName::Torso => "torso",
+            PartName::Head => "head",
+            PartName::LeftArm => "left arm",
+            PartName::RightArm => "right arm",
+            PartName::LeftLeg => "left leg",
+            PartName::RightLeg => "right leg",
+            PartName::LeftFoot => "left foot",
+            PartName::RightFoot => "right foot",
+        };
+        f.write_str(s)
+    }
+}

@@ -1,0 +1,10 @@
+//! The ground layer: numbers and vectors, small dense linear algebra,
+//! triangle meshes and point clouds, reference shapes, the random
+//! generator and the data-parallel helpers. Depends on nothing else.
+
+pub mod linalg;
+pub mod math;
+pub mod mesh;
+pub mod parallel;
+pub mod rng;
+pub mod shapes;

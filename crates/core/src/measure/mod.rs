@@ -1,0 +1,6 @@
+//! Body measurements: on a mesh from fitted curves of its own sections
+//! (`mesh`), and on a model from its curves and surfaces (`model`).
+
+pub mod compare;
+pub mod mesh;
+pub mod model;

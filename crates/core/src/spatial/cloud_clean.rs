@@ -1,0 +1,541 @@
+//! Input hygiene for a scanned point cloud: the floor or turntable under the
+//! feet and the stray points and clumps a scanner records around a body are
+//! taken out before the body is segmented.
+//!
+//! Everything is relative to the cloud's own extent `E` (the longest side of
+//! the box holding the central 99.8 % of the points along each axis, so a
+//! stray point far away does not set it):
+//!
+//! 1. **Floor.** For each candidate direction `n` (the up axis when given,
+//!    else the three principal axes of the voxel-thinned cloud, both signs),
+//!    the points' heights along `n` are binned (`E / 500` wide). A floor is
+//!    a thin dense sheet at the low end: the fullest bin in the lowest 15 %
+//!    of the heights, whose points cover, in the plane, an area of at least
+//!    [`CleanOptions::min_floor_area`] × `E²` (counted in cells of the voxel
+//!    size), and what lies above it reaches at least `E / 2` along `n` (a
+//!    body stands on its floor; a flat side of it has no such reach). Its
+//!    plane is refitted (least squares) to the points within a band around
+//!    it that narrows to three robust deviations (at least two bins); every
+//!    point below the band's top is floor. The two soles of a body cover about 0.02 E²; a
+//!    floor disc under the feet ten times that.
+//! 2. **Strays.** The remaining points are put in voxels of side
+//!    [`CleanOptions::voxel`] × `E`, 26-connected into components. The
+//!    largest component is the body; another component is kept only when it
+//!    has at least [`CleanOptions::min_component`] of the largest's points
+//!    (a part cut off by a scanner hole), the rest is dropped.
+//!
+//! The result says how many points went and why, and, when a floor was
+//! found, its normal: the body's up direction.
+
+use std::collections::HashMap;
+
+use crate::geom::linalg::symmetric_eigen3;
+use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::mesh::PointCloud;
+
+/// Options of [`clean_cloud`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CleanOptions {
+    /// Remove a floor or turntable under the feet. Default true.
+    pub remove_floor: bool,
+    /// Remove stray points and small clumps. Default true.
+    pub remove_strays: bool,
+    /// The up direction, when known: only a floor normal to it is looked
+    /// for. Default `None` (the principal axes are tried).
+    pub up: Option<Vec3>,
+    /// A floor covers at least this fraction of `E²`. Default 0.06.
+    pub min_floor_area: Real,
+    /// Voxel side for the components, as a fraction of `E`. Default 0.01.
+    pub voxel: Real,
+    /// A component other than the largest is kept when it has at least
+    /// this fraction of the largest's points. Default 0.05.
+    pub min_component: Real,
+}
+
+impl Default for CleanOptions {
+    fn default() -> Self {
+        CleanOptions {
+            remove_floor: true,
+            remove_strays: true,
+            up: None,
+            min_floor_area: 0.06,
+            voxel: 0.01,
+            min_component: 0.05,
+        }
+    }
+}
+
+/// What [`clean_cloud`] found and removed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CleanReport {
+    /// Points on or below the floor.
+    pub floor_points: usize,
+    /// The floor's normal, pointing to the body, when a floor was found.
+    pub floor_normal: Option<Vec3>,
+    /// Points in components too small to be part of the body.
+    pub stray_points: usize,
+    /// Components dropped.
+    pub stray_components: usize,
+    /// Components kept (the body and pieces of it).
+    pub kept_components: usize,
+}
+
+impl CleanReport {
+    /// One line per removal, for a warning list.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
+        if self.floor_points > 0 {
+            w.push(format!(
+                "removed a floor under the feet: {} points",
+                self.floor_points
+            ));
+        }
+        if self.stray_points > 0 {
+            w.push(format!(
+                "removed {} stray points in {} clumps away from the body",
+                self.stray_points, self.stray_components
+            ));
+        }
+        w
+    }
+}
+
+/// The cloud without its floor and stray points (see the module doc), and
+/// what was removed. Points keep their order; normals follow their points.
+pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, CleanReport) {
+    let mut report = CleanReport {
+        floor_points: 0,
+        floor_normal: None,
+        stray_points: 0,
+        stray_components: 0,
+        kept_components: 0,
+    };
+    let pts = &cloud.positions;
+    let Some(extent) = robust_extent(pts) else {
+        return (cloud.clone(), report);
+    };
+    let mut keep = vec![true; pts.len()];
+    if opts.remove_floor {
+        if let Some(floor) = find_floor(pts, extent, opts) {
+            for (k, p) in keep.iter_mut().zip(pts) {
+                if p.dot(floor.normal) < floor.top {
+                    *k = false;
+                    report.floor_points += 1;
+                }
+            }
+            report.floor_normal = Some(floor.normal);
+        }
+    }
+    if opts.remove_strays {
+        let comps = components(pts, &keep, opts.voxel * extent);
+        let largest = comps.sizes.iter().copied().max().unwrap_or(0);
+        let min = (opts.min_component * largest as Real).ceil() as usize;
+        for (k, &c) in keep.iter_mut().zip(&comps.of_point) {
+            if *k && comps.sizes[c as usize] < min.max(1) {
+                *k = false;
+                report.stray_points += 1;
+            }
+        }
+        report.kept_components = comps.sizes.iter().filter(|&&s| s >= min.max(1)).count();
+        report.stray_components = comps.sizes.len() - report.kept_components;
+    }
+    let positions = pts
+        .iter()
+        .zip(&keep)
+        .filter_map(|(p, &k)| k.then_some(*p))
+        .collect();
+    let normals = cloud.normals.as_ref().map(|ns| {
+        ns.iter()
+            .zip(&keep)
+            .filter_map(|(n, &k)| k.then_some(*n))
+            .collect()
+    });
+    (PointCloud { positions, normals }, report)
+}
+
+/// The longest side of the box holding the central 99.8 % of the finite
+/// points along each axis; `None` for fewer than 10 points.
+fn robust_extent(pts: &[Point3]) -> Option<Real> {
+    let mut best: Real = 0.0;
+    for axis in 0..3 {
+        let mut v: Vec<Real> = pts
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|p| p.to_array()[axis])
+            .collect();
+        if v.len() < 10 {
+            return None;
+        }
+        let lo_k = v.len() / 1000;
+        let hi_k = v.len() - 1 - lo_k;
+        let lo = *v.select_nth_unstable_by(lo_k, |a, b| a.total_cmp(b)).1;
+        let hi = *v.select_nth_unstable_by(hi_k, |a, b| a.total_cmp(b)).1;
+        best = best.max(hi - lo);
+    }
+    (best > 0.0).then_some(best)
+}
+
+/// A floor plane: points with `p · normal < top` are floor.
+struct Floor {
+    normal: Vec3,
+    top: Real,
+    /// The covered area, as a fraction of `E²`.
+    area: Real,
+}
+
+fn find_floor(pts: &[Point3], extent: Real, opts: &CleanOptions) -> Option<Floor> {
+    let cell = opts.voxel * extent;
+    let candidates: Vec<Vec3> = match opts.up.and_then(|u| u.normalized()) {
+        Some(u) => vec![u],
+        None => principal_axes(pts, cell)
+            .into_iter()
+            .flat_map(|a| [a, -a])
+            .collect(),
+    };
+    let mut best: Option<Floor> = None;
+    for n in candidates {
+        let Some(f) = floor_along(pts, n, extent, cell) else {
+            continue;
+        };
+        if f.area >= opts.min_floor_area && best.as_ref().is_none_or(|b| f.area > b.area) {
+            best = Some(f);
+        }
+    }
+    best
+}
+
+/// The floor normal to about `n`, refined once (see the module doc).
+fn floor_along(pts: &[Point3], n: Vec3, extent: Real, cell: Real) -> Option<Floor> {
+    let bin = extent / 500.0;
+    let (centre, _) = low_band(pts, n, extent, bin)?;
+    // Refit the plane to the points near it, the band then set to three
+    // robust deviations (at least two bins): a candidate axis a few degrees
+    // off the floor's normal holds a strip of the floor in its fullest bin,
+    // and each refit turns the plane towards the floor's.
+    let (mut normal, mut level, mut width) = (n, centre, 1.5 * bin);
+    for _ in 0..8 {
+        let band: Vec<Point3> = pts
+            .iter()
+            .filter(|p| p.is_finite() && (p.dot(normal) - level).abs() <= width)
+            .copied()
+            .collect();
+        let (c, m) = plane_fit(&band)?;
+        let m = if m.dot(n) < 0.0 { -m } else { m };
+        if m.dot(n) < 0.9 {
+            return None;
+        }
+        normal = m;
+        level = c.dot(m);
+        width = (3.0 * robust_deviation(&band, m, level)).max(2.0 * bin);
+    }
+    let sheet: Vec<Point3> = pts
+        .iter()
+        .filter(|p| p.is_finite() && (p.dot(normal) - level).abs() <= width)
+        .copied()
+        .collect();
+    let top = level + width;
+    // A body stands on its floor: what lies above it reaches along the
+    // normal at least half the cloud's extent (a flat side does not).
+    let mut above: Vec<Real> = pts
+        .iter()
+        .filter(|p| p.is_finite())
+        .map(|p| p.dot(normal))
+        .filter(|&h| h > top)
+        .collect();
+    if above.len() < 10 {
+        return None;
+    }
+    let k = above.len() - 1 - above.len() / 1000;
+    let reach = *above.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1 - top;
+    if reach < 0.5 * extent {
+        return None;
+    }
+    let area = covered_area(&sheet, normal, cell) / (extent * extent);
+    Some(Floor { normal, top, area })
+}
+
+/// The fullest bin of heights along `n` in the lowest 15 % of their range:
+/// its centre height and its points (with its neighbours').
+fn low_band(pts: &[Point3], n: Vec3, extent: Real, bin: Real) -> Option<(Real, Vec<Point3>)> {
+    let mut h: Vec<Real> = pts
+        .iter()
+        .filter(|p| p.is_finite())
+        .map(|p| p.dot(n))
+        .collect();
+    if h.len() < 10 {
+        return None;
+    }
+    let k = h.len() / 1000;
+    let lo = *h.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
+    let hi_k = h.len() - 1 - k;
+    let hi = *h.select_nth_unstable_by(hi_k, |a, b| a.total_cmp(b)).1;
+    let start = lo - 2.0 * bin;
+    let span = (hi - lo).max(extent * 0.01);
+    let bins = ((0.15 * span + 2.0 * bin) / bin).ceil() as usize + 1;
+    let mut count = vec![0usize; bins];
+    for &v in &h {
+        let b = (v - start) / bin;
+        if b >= 0.0 && (b as usize) < bins {
+            count[b as usize] += 1;
+        }
+    }
+    let (best, _) = count
+        .iter()
+        .enumerate()
+        .max_by_key(|&(i, c)| (*c, usize::MAX - i))?;
+    // The band: the best bin and its neighbours.
+    let centre = start + (best as Real + 0.5) * bin;
+    let sheet: Vec<Point3> = pts
+        .iter()
+        .filter(|p| p.is_finite() && (p.dot(n) - centre).abs() <= 1.5 * bin)
+        .copied()
+        .collect();
+    Some((centre, sheet))
+}
+
+/// The centroid and normal of the least-squares plane through `pts`.
+fn plane_fit(pts: &[Point3]) -> Option<(Point3, Vec3)> {
+    if pts.len() < 3 {
+        return None;
+    }
+    let c = pts.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / pts.len() as Real);
+    let mut m = [[0.0; 3]; 3];
+    for p in pts {
+        let d = (*p - c).to_array();
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] += d[i] * d[j];
+            }
+        }
+    }
+    let (vals, vecs) = symmetric_eigen3(m);
+    let k = (0..3).min_by(|&a, &b| vals[a].total_cmp(&vals[b]))?;
+    Some((c, vecs[k].normalized()?))
+}
+
+/// The median absolute distance of `pts` from the plane `p · n = c`,
+/// scaled to a normal distribution's deviation (× 1.4826).
+fn robust_deviation(pts: &[Point3], n: Vec3, c: Real) -> Real {
+    let mut d: Vec<Real> = pts.iter().map(|p| (p.dot(n) - c).abs()).collect();
+    if d.is_empty() {
+        return 0.0;
+    }
+    let k = d.len() / 2;
+    1.4826 * *d.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1
+}
+
+/// The area of the cells of side `cell` that `pts` occupy in the plane
+/// normal to `n`.
+fn covered_area(pts: &[Point3], n: Vec3, cell: Real) -> Real {
+    let e1 = n.any_perpendicular();
+    let e2 = n.cross(e1);
+    let mut cells = std::collections::HashSet::new();
+    for p in pts {
+        let key = (
+            (p.dot(e1) / cell).floor() as i64,
+            (p.dot(e2) / cell).floor() as i64,
+        );
+        cells.insert(key);
+    }
+    cells.len() as Real * cell * cell
+}
+
+/// The principal axes of the cloud thinned to one centroid per voxel (so a
+/// densely scanned region does not tilt them).
+fn principal_axes(pts: &[Point3], cell: Real) -> Vec<Vec3> {
+    let mut voxels: HashMap<[i64; 3], (Vec3, usize)> = HashMap::new();
+    for p in pts.iter().filter(|p| p.is_finite()) {
+        let e = voxels.entry(voxel_key(*p, cell)).or_insert((Vec3::ZERO, 0));
+        e.0 += *p;
+        e.1 += 1;
+    }
+    let mut keys: Vec<&[i64; 3]> = voxels.keys().collect();
+    keys.sort();
+    let cents: Vec<Point3> = keys
+        .iter()
+        .map(|k| {
+            let (s, c) = voxels[*k];
+            s * (1.0 / c as Real)
+        })
+        .collect();
+    if cents.len() < 3 {
+        return Vec::new();
+    }
+    let c = cents.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / cents.len() as Real);
+    let mut m = [[0.0; 3]; 3];
+    for p in &cents {
+        let d = (*p - c).to_array();
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] += d[i] * d[j];
+            }
+        }
+    }
+    let (_, vecs) = symmetric_eigen3(m);
+    vecs.iter().filter_map(|v| v.normalized()).collect()
+}
+
+fn voxel_key(p: Point3, cell: Real) -> [i64; 3] {
+    let a = p.to_array();
+    [
+        (a[0] / cell).floor() as i64,
+        (a[1] / cell).floor() as i64,
+        (a[2] / cell).floor() as i64,
+    ]
+}
+
+/// Voxel components of the kept points.
+struct Components {
+    /// The component of each point (`u32::MAX` for points not kept).
+    of_point: Vec<u32>,
+    /// Points per component.
+    sizes: Vec<usize>,
+}
+
+fn components(pts: &[Point3], keep: &[bool], cell: Real) -> Components {
+    // Voxels in sorted key order, so the numbering does not depend on the
+    // points' order.
+    let mut keys: Vec<[i64; 3]> = pts
+        .iter()
+        .zip(keep)
+        .filter(|(p, &k)| k && p.is_finite())
+        .map(|(p, _)| voxel_key(*p, cell))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    let index: HashMap<[i64; 3], u32> = keys
+        .iter()
+        .enumerate()
+        .map(|(i, k)| (*k, i as u32))
+        .collect();
+    let mut parent: Vec<u32> = (0..keys.len() as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    for (i, k) in keys.iter().enumerate() {
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for dz in -1..=1 {
+                    let nk = [k[0] + dx, k[1] + dy, k[2] + dz];
+                    if let Some(&j) = index.get(&nk) {
+                        let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j));
+                        if a != b {
+                            parent[a.max(b) as usize] = a.min(b);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut label = vec![u32::MAX; keys.len()];
+    let mut next = 0u32;
+    let mut voxel_comp = vec![0u32; keys.len()];
+    for i in 0..keys.len() {
+        let r = root(&mut parent, i as u32) as usize;
+        if label[r] == u32::MAX {
+            label[r] = next;
+            next += 1;
+        }
+        voxel_comp[i] = label[r];
+    }
+    let mut sizes = vec![0usize; next as usize];
+    let of_point: Vec<u32> = pts
+        .iter()
+        .zip(keep)
+        .map(|(p, &k)| {
+            if k && p.is_finite() {
+                let c = voxel_comp[index[&voxel_key(*p, cell)] as usize];
+                sizes[c as usize] += 1;
+                c
+            } else {
+                u32::MAX
+            }
+        })
+        .collect();
+    Components { of_point, sizes }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A capsule-like column of points 1.7 tall on a disc, plus strays.
+    fn column(with_floor: bool, strays: bool) -> PointCloud {
+        let mut p = Vec::new();
+        for i in 0..200 {
+            let z = 0.01 + 1.7 * i as Real / 200.0;
+            for j in 0..60 {
+                let a = std::f64::consts::TAU * j as Real / 60.0;
+                p.push(Vec3::new(0.15 * a.cos(), 0.1 * a.sin(), z));
+            }
+        }
+        if with_floor {
+            for i in -60..=60 {
+                for j in -60..=60 {
+                    let (x, y) = (i as Real * 0.01, j as Real * 0.01);
+                    if x * x + y * y < 0.36 {
+                        p.push(Vec3::new(x, y, 0.0));
+                    }
+                }
+            }
+        }
+        if strays {
+            p.push(Vec3::new(1.0, 1.0, 1.0));
+            for k in 0..20 {
+                p.push(Vec3::new(-0.8, 0.5 + 0.001 * k as Real, 1.2));
+            }
+        }
+        PointCloud {
+            positions: p,
+            normals: None,
+        }
+    }
+
+    #[test]
+    fn a_floor_disc_is_found_and_removed_with_its_normal() {
+        let c = column(true, false);
+        let (out, r) = clean_cloud(&c, &CleanOptions::default());
+        let n = r.floor_normal.expect("floor");
+        assert!(n.dot(Vec3::new(0.0, 0.0, 1.0)) > 0.999, "{n:?}");
+        assert!(out.positions.iter().all(|p| p.to_array()[2] > 0.009));
+        assert_eq!(out.positions.len(), 200 * 60);
+        assert!(r.floor_points > 1000);
+    }
+
+    #[test]
+    fn a_body_without_floor_keeps_every_point() {
+        let c = column(false, false);
+        let (out, r) = clean_cloud(&c, &CleanOptions::default());
+        assert_eq!(r.floor_normal, None);
+        assert_eq!(out, c);
+    }
+
+    #[test]
+    fn strays_and_clumps_go_and_the_order_does_not_matter() {
+        let c = column(false, true);
+        let (out, r) = clean_cloud(&c, &CleanOptions::default());
+        assert_eq!(r.stray_points, 21);
+        assert_eq!(r.stray_components, 2);
+        assert_eq!(out.positions.len(), 200 * 60);
+        let mut rev = c.clone();
+        rev.positions.reverse();
+        let (out2, r2) = clean_cloud(&rev, &CleanOptions::default());
+        assert_eq!(r2, r);
+        assert_eq!(out2.positions.len(), out.positions.len());
+    }
+
+    #[test]
+    fn a_given_up_axis_limits_the_floor_search() {
+        let c = column(true, false);
+        let opts = CleanOptions {
+            up: Some(Vec3::new(1.0, 0.0, 0.0)),
+            ..CleanOptions::default()
+        };
+        let (_, r) = clean_cloud(&c, &opts);
+        assert_eq!(r.floor_points, 0);
+    }
+}

@@ -1,0 +1,10 @@
+//! Surfaces from curves: Hermite patches between section curves, parts
+//! skinned from them, end caps, transitions between parts, tessellation,
+//! and the outer skin of a set of pieces.
+
+pub mod cap;
+pub mod part;
+pub mod patch;
+pub mod skin;
+pub mod tessellate;
+pub mod transition;

@@ -198,7 +198,7 @@ pub struct ReconstructOptions {
     /// coincide, both stay).
     pub skin_depth: Real,
     /// A scan's floor and stray points removed before segmentation
-    /// ([`crate::cloud_clean`]; its `up` is taken from `segment.up`).
+    /// ([`crate::spatial::cloud_clean`]; its `up` is taken from `segment.up`).
     pub clean: CleanOptions,
 }
 

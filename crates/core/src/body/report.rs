@@ -106,7 +106,7 @@ pub struct Report {
     /// Parts the segmentation found (feet included).
     pub parts_found: Vec<PartName>,
     /// Joint centres estimated from the segmentation
-    /// ([`crate::joints::estimate_joints`]), in the input's coordinates.
+    /// ([`crate::segment::joints::estimate_joints`]), in the input's coordinates.
     pub joints: Vec<(JointName, Point3)>,
     pub warnings: Vec<String>,
 }

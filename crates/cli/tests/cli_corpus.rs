@@ -1,0 +1,134 @@
+//! End-to-end: `trigbody corpus` on one body of each pose class of the
+//! shared development corpus (`../shared/data/corpus`), and one scan of
+//! each kind of clutter, judged against the truth meshes.
+//!
+//! The limits are regression guards at the level reached now, not the
+//! pose-robustness issue's targets (which are not met yet: see
+//! docs/corpus.md): a pose class that stops reconstructing, loses a part or
+//! drifts off its truth fails here. Without the shared data the test says
+//! so loudly and checks only the command's handling of a bad folder.
+
+use assert_cmd::Command;
+use std::path::PathBuf;
+
+fn corpus() -> Option<PathBuf> {
+    let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/corpus");
+    if d.join("manifest.json").is_file() {
+        Some(d)
+    } else {
+        eprintln!(
+            "NOTE: {} not found: the corpus pose-class checks are SKIPPED",
+            d.display()
+        );
+        None
+    }
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("trigbody-corpus-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// (input, pose class, RMS limit mm) — meshes 2.0-3.6 mm now, scans
+/// 4.9-6.4 mm.
+const CASES: [(&str, &str, f64); 9] = [
+    ("body_019", "a", 3.0),
+    ("body_012", "close", 3.0),
+    ("body_026", "wide", 3.0),
+    ("body_000", "t", 4.5),
+    ("body_020", "raised", 4.0),
+    ("body_024", "mixed", 4.5),
+    // A floor and stray points, arms close.
+    ("body_003_scan", "close", 6.5),
+    // A floor and stray points, T-pose.
+    ("body_000_scan", "t", 8.0),
+    // A missed head top.
+    ("body_009_scan", "a", 8.0),
+];
+
+#[test]
+fn one_body_of_each_pose_class_stays_reconstructed() {
+    let Some(dir) = corpus() else {
+        return;
+    };
+    let out = out_dir("poses");
+    let names: Vec<&str> = CASES.iter().map(|c| c.0).collect();
+    let run = Command::cargo_bin("trigbody")
+        .unwrap()
+        .arg("corpus")
+        .arg(&dir)
+        .args([
+            "--only",
+            &names.join(","),
+            "--samples",
+            "30000",
+            "--pictures",
+            "1",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), CASES.len(), "{csv}");
+    for (name, pose, limit) in CASES {
+        let row = rows
+            .iter()
+            .find(|r| r[0] == name)
+            .unwrap_or_else(|| panic!("{name}: {csv}"));
+        assert_eq!(row[col("pose")], pose, "{name}");
+        assert_ne!(row[col("status")], "failed", "{name} ({pose}): {stderr}");
+        assert_eq!(row[col("parts")], "8", "{name} ({pose}): a part was lost");
+        let rms: f64 = row[col("rms_mm")].parse().unwrap();
+        assert!(rms <= limit, "{name} ({pose}): rms {rms} mm > {limit}");
+        for wrist in ["left_wrist_mm", "right_wrist_mm"] {
+            let e: f64 = row[col(wrist)].parse().unwrap();
+            assert!(e <= 30.0, "{name} ({pose}): {wrist} {e} mm off the truth");
+        }
+    }
+    let md = std::fs::read_to_string(out.join("results.md")).unwrap();
+    assert!(md.contains("| body_020 | raised |"), "{md}");
+    assert!(std::fs::read_dir(&out).unwrap().any(|e| e
+        .unwrap()
+        .file_name()
+        .to_string_lossy()
+        .starts_with("worst-1-")));
+    // The results are not replaced without --force.
+    let again = Command::cargo_bin("trigbody")
+        .unwrap()
+        .arg("corpus")
+        .arg(&dir)
+        .args(["--only", "body_019", "--pictures", "0", "--samples", "2000"])
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(again.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&again.stderr).contains("already exists"));
+}
+
+#[test]
+fn a_folder_without_a_manifest_is_a_usage_error() {
+    let out = out_dir("nomanifest");
+    std::fs::create_dir_all(&out).unwrap();
+    let run = Command::cargo_bin("trigbody")
+        .unwrap()
+        .arg("corpus")
+        .arg(&out)
+        .arg("--out")
+        .arg(out.join("res"))
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("manifest.json"));
+}

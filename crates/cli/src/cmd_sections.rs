@@ -138,24 +138,7 @@ pub fn run(args: SectionsArgs) -> Result<()> {
             args.axis
         )));
     }
-    let offsets: Vec<Real> = match args.step {
-        Some(step) if step.is_finite() && step > 0.0 => {
-            let n = ((to - from) / step).floor() as usize;
-            if n > 100_000 {
-                return Err(bad(format!("--step {step} gives more than 100 000 planes")));
-            }
-            (0..n.max(1))
-                .map(|k| from + (k as Real + 0.5) * step)
-                .collect()
-        }
-        Some(step) => return Err(bad(format!("--step {step} must be a positive number"))),
-        None if args.count == 0 || args.count > 100_000 => {
-            return Err(bad(format!("--count {} must be in 1..=100000", args.count)))
-        }
-        None => (0..args.count)
-            .map(|k| from + (k as Real + 0.5) * (to - from) / args.count as Real)
-            .collect(),
-    };
+    let offsets = plane_offsets(&args, from, to)?;
     let fit_opts = if is_scan {
         scan_fit_options(&base)
     } else {
@@ -183,54 +166,13 @@ pub fn run(args: SectionsArgs) -> Result<()> {
     let mut levels = Vec::new();
     let mut fitted: Vec<FittedLevel> = Vec::new();
     for &offset in &offsets {
-        let loops: Vec<CutLoop> = if let Some(s) = &mesh_slicer {
-            match s.section_at(offset) {
-                Ok(sec) => {
-                    for c in &sec.open_chains {
-                        eprintln!(
-                            "trigbody: warning: {name}: an open chain of {} points at offset {offset} (open or non-manifold surface)",
-                            c.len()
-                        );
-                    }
-                    sec.loops
-                        .into_iter()
-                        .map(|l| CutLoop {
-                            perimeter: l.perimeter,
-                            area: l.area,
-                            points: l.points,
-                            note: String::new(),
-                        })
-                        .collect()
-                }
-                Err(e) => {
-                    eprintln!("trigbody: warning: {name}: {e}");
-                    Vec::new()
-                }
-            }
-        } else if let Some(s) = &cloud_slicer {
-            match s.section_at(offset, &scan_opts) {
-                Ok(sec) => sec
-                    .loops
-                    .into_iter()
-                    .map(|l| CutLoop {
-                        perimeter: l.outline.perimeter,
-                        area: l.outline.area,
-                        note: if l.closed_ring {
-                            String::new()
-                        } else {
-                            format!("  (gap {:.4} bridged)", l.max_gap)
-                        },
-                        points: l.outline.points,
-                    })
-                    .collect(),
-                Err(e) => {
-                    eprintln!("trigbody: warning: {name}: {e}");
-                    Vec::new()
-                }
-            }
-        } else {
-            Vec::new()
-        };
+        let loops = loops_at(
+            mesh_slicer.as_ref(),
+            cloud_slicer.as_ref(),
+            &scan_opts,
+            &name,
+            offset,
+        );
         let mut json_loops = Vec::new();
         if loops.is_empty() {
             table += &format!("  {offset:>10.4}    -      0   (no loop)\n");
@@ -289,6 +231,88 @@ pub fn run(args: SectionsArgs) -> Result<()> {
         table += &format!("plot written to {}\n", path.display());
     }
     print(&table)
+}
+
+/// The offsets of the planes: `--step` apart, or `--count` of them, each
+/// in the middle of its share of `[from, to]`.
+fn plane_offsets(args: &SectionsArgs, from: Real, to: Real) -> Result<Vec<Real>> {
+    Ok(match args.step {
+        Some(step) if step.is_finite() && step > 0.0 => {
+            let n = ((to - from) / step).floor() as usize;
+            if n > 100_000 {
+                return Err(bad(format!("--step {step} gives more than 100 000 planes")));
+            }
+            (0..n.max(1))
+                .map(|k| from + (k as Real + 0.5) * step)
+                .collect()
+        }
+        Some(step) => return Err(bad(format!("--step {step} must be a positive number"))),
+        None if args.count == 0 || args.count > 100_000 => {
+            return Err(bad(format!("--count {} must be in 1..=100000", args.count)))
+        }
+        None => (0..args.count)
+            .map(|k| from + (k as Real + 0.5) * (to - from) / args.count as Real)
+            .collect(),
+    })
+}
+
+/// The loops at `offset` of whichever slicer there is (warnings for open
+/// chains and failed cuts go to stderr).
+fn loops_at(
+    mesh_slicer: Option<&MeshSlicer>,
+    cloud_slicer: Option<&CloudSlicer>,
+    scan_opts: &ScanSectionOptions,
+    name: &str,
+    offset: Real,
+) -> Vec<CutLoop> {
+    if let Some(s) = mesh_slicer {
+        match s.section_at(offset) {
+            Ok(sec) => {
+                for c in &sec.open_chains {
+                    eprintln!(
+                        "trigbody: warning: {name}: an open chain of {} points at offset {offset} (open or non-manifold surface)",
+                        c.len()
+                    );
+                }
+                sec.loops
+                    .into_iter()
+                    .map(|l| CutLoop {
+                        perimeter: l.perimeter,
+                        area: l.area,
+                        points: l.points,
+                        note: String::new(),
+                    })
+                    .collect()
+            }
+            Err(e) => {
+                eprintln!("trigbody: warning: {name}: {e}");
+                Vec::new()
+            }
+        }
+    } else if let Some(s) = cloud_slicer {
+        match s.section_at(offset, &scan_opts) {
+            Ok(sec) => sec
+                .loops
+                .into_iter()
+                .map(|l| CutLoop {
+                    perimeter: l.outline.perimeter,
+                    area: l.outline.area,
+                    note: if l.closed_ring {
+                        String::new()
+                    } else {
+                        format!("  (gap {:.4} bridged)", l.max_gap)
+                    },
+                    points: l.outline.points,
+                })
+                .collect(),
+            Err(e) => {
+                eprintln!("trigbody: warning: {name}: {e}");
+                Vec::new()
+            }
+        }
+    } else {
+        Vec::new()
+    }
 }
 
 fn pct(x: Real) -> String {

@@ -170,104 +170,16 @@ fn parse_header(data: &[u8]) -> Result<Header> {
                     lines: line,
                 });
             }
-            Some("format") => {
-                let name = tokens.next().unwrap_or("");
-                let version = tokens.next().unwrap_or("");
-                encoding = Some(match name {
-                    "ascii" => Encoding::Ascii,
-                    "binary_little_endian" => Encoding::LittleEndian,
-                    "binary_big_endian" => Encoding::BigEndian,
-                    _ => {
-                        return Err(header_err(
-                            line,
-                            FormatErrorKind::UnknownPlyFormat {
-                                value: excerpt(text.trim()),
-                            },
-                        ))
-                    }
-                });
-                if !version.starts_with('1') {
-                    return Err(header_err(
-                        line,
-                        FormatErrorKind::UnknownPlyFormat {
-                            value: excerpt(text.trim()),
-                        },
-                    ));
-                }
-            }
+            Some("format") => encoding = Some(parse_format(line, text, &mut tokens)?),
             Some("element") => {
-                let (Some(name), Some(count)) = (tokens.next(), tokens.next()) else {
-                    return Err(bad_header(
-                        line,
-                        format!(
-                            "expected `element <name> <count>`, found {:?}",
-                            excerpt(text)
-                        ),
-                    ));
-                };
-                let count: u64 = count.parse().map_err(|_| {
-                    header_err(
-                        line,
-                        FormatErrorKind::InvalidNumber {
-                            expected: "an element count",
-                            value: excerpt(count),
-                        },
-                    )
-                })?;
-                let role = if name.eq_ignore_ascii_case("vertex") {
-                    Role::Vertex
-                } else if name.eq_ignore_ascii_case("face") {
-                    Role::Face
-                } else {
-                    Role::Other
-                };
-                if role != Role::Other && elements.iter().any(|e| e.role == role) {
-                    return Err(bad_header(line, format!("a second `{name}` element")));
-                }
-                elements.push(Element {
-                    name: name.to_string(),
-                    count,
-                    properties: Vec::new(),
-                    role,
-                });
+                let element = parse_element(line, text, &mut tokens, &elements)?;
+                elements.push(element);
             }
             Some("property") => {
                 let Some(element) = elements.last_mut() else {
                     return Err(bad_header(line, "a property before any element".into()));
                 };
-                let scalar = |name: Option<&str>| -> Result<Scalar> {
-                    let name = name.unwrap_or("");
-                    Scalar::parse(name).ok_or_else(|| {
-                        header_err(
-                            line,
-                            FormatErrorKind::UnknownPropertyType {
-                                value: excerpt(name),
-                            },
-                        )
-                    })
-                };
-                let first = tokens.next();
-                let kind = if first == Some("list") {
-                    let count = scalar(tokens.next())?;
-                    let item = scalar(tokens.next())?;
-                    if !count.is_integer() {
-                        return Err(bad_header(
-                            line,
-                            "the count type of a list must be an integer type".into(),
-                        ));
-                    }
-                    Kind::List { count, item }
-                } else {
-                    Kind::Scalar(scalar(first)?)
-                };
-                let Some(name) = tokens.next() else {
-                    return Err(bad_header(line, "a property without a name".into()));
-                };
-                element.properties.push(Property {
-                    name: name.to_string(),
-                    kind,
-                    slot: Slot::Skip,
-                });
+                element.properties.push(parse_property(line, &mut tokens)?);
             }
             Some(other) => {
                 return Err(bad_header(
@@ -277,6 +189,123 @@ fn parse_header(data: &[u8]) -> Result<Header> {
             }
         }
     }
+}
+
+/// The encoding of a `format <name> <version>` header line.
+fn parse_format(
+    line: usize,
+    text: &str,
+    tokens: &mut std::str::SplitAsciiWhitespace<'_>,
+) -> Result<Encoding> {
+    let name = tokens.next().unwrap_or("");
+    let version = tokens.next().unwrap_or("");
+    let encoding = match name {
+        "ascii" => Encoding::Ascii,
+        "binary_little_endian" => Encoding::LittleEndian,
+        "binary_big_endian" => Encoding::BigEndian,
+        _ => {
+            return Err(header_err(
+                line,
+                FormatErrorKind::UnknownPlyFormat {
+                    value: excerpt(text.trim()),
+                },
+            ))
+        }
+    };
+    if !version.starts_with('1') {
+        return Err(header_err(
+            line,
+            FormatErrorKind::UnknownPlyFormat {
+                value: excerpt(text.trim()),
+            },
+        ));
+    }
+    Ok(encoding)
+}
+
+/// The element of an `element <name> <count>` header line (a second vertex
+/// or face element is refused).
+fn parse_element(
+    line: usize,
+    text: &str,
+    tokens: &mut std::str::SplitAsciiWhitespace<'_>,
+    elements: &[Element],
+) -> Result<Element> {
+    let (Some(name), Some(count)) = (tokens.next(), tokens.next()) else {
+        return Err(bad_header(
+            line,
+            format!(
+                "expected `element <name> <count>`, found {:?}",
+                excerpt(text)
+            ),
+        ));
+    };
+    let count: u64 = count.parse().map_err(|_| {
+        header_err(
+            line,
+            FormatErrorKind::InvalidNumber {
+                expected: "an element count",
+                value: excerpt(count),
+            },
+        )
+    })?;
+    let role = if name.eq_ignore_ascii_case("vertex") {
+        Role::Vertex
+    } else if name.eq_ignore_ascii_case("face") {
+        Role::Face
+    } else {
+        Role::Other
+    };
+    if role != Role::Other && elements.iter().any(|e| e.role == role) {
+        return Err(bad_header(line, format!("a second `{name}` element")));
+    }
+    Ok(Element {
+        name: name.to_string(),
+        count,
+        properties: Vec::new(),
+        role,
+    })
+}
+
+/// The property of a `property <type> <name>` or `property list <count
+/// type> <item type> <name>` header line.
+fn parse_property(
+    line: usize,
+    tokens: &mut std::str::SplitAsciiWhitespace<'_>,
+) -> Result<Property> {
+    let scalar = |name: Option<&str>| -> Result<Scalar> {
+        let name = name.unwrap_or("");
+        Scalar::parse(name).ok_or_else(|| {
+            header_err(
+                line,
+                FormatErrorKind::UnknownPropertyType {
+                    value: excerpt(name),
+                },
+            )
+        })
+    };
+    let first = tokens.next();
+    let kind = if first == Some("list") {
+        let count = scalar(tokens.next())?;
+        let item = scalar(tokens.next())?;
+        if !count.is_integer() {
+            return Err(bad_header(
+                line,
+                "the count type of a list must be an integer type".into(),
+            ));
+        }
+        Kind::List { count, item }
+    } else {
+        Kind::Scalar(scalar(first)?)
+    };
+    let Some(name) = tokens.next() else {
+        return Err(bad_header(line, "a property without a name".into()));
+    };
+    Ok(Property {
+        name: name.to_string(),
+        kind,
+        slot: Slot::Skip,
+    })
 }
 
 /// Decides which property feeds what; returns whether normals are present.

@@ -802,7 +802,6 @@ fn assemble(
 ) -> (Vec<BodyTransition>, [Option<String>; 2]) {
     let mut out = Vec::new();
     let mut poor: [Option<String>; 2] = [None, None];
-    let up = seg.frame.up;
     let Some(ti) = parts.iter().position(|p| p.name == PartName::Torso) else {
         return (out, poor);
     };
@@ -839,73 +838,12 @@ fn assemble(
     };
     // Legs: the seam through the crotch (its level; horizontally midway
     // between the legs' first centres).
-    let legs: Vec<usize> = parts
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| matches!(p.name, PartName::LeftLeg | PartName::RightLeg))
-        .map(|(i, _)| i)
-        .collect();
-    let leg_centre = |i: usize| parts[i].part.curves()[0].frame.origin;
-    let mut closed = legs.len() == 2;
-    let mut leg_specs: Vec<(usize, TransitionSpec)> = Vec::new();
-    if legs.len() == 2 {
-        let mid = (leg_centre(legs[0]) + leg_centre(legs[1])) * 0.5;
-        let point = mid + up * (crotch_level - mid.dot(up));
-        let torso_order = parts[ti].part.curves()[0].order();
-        leg_specs = legs
-            .iter()
-            .map(|&li| {
-                let side = (leg_centre(li) - point).dot(seg.frame.left);
-                let spec = TransitionSpec {
-                    from_start: true,
-                    to_start: true,
-                    magnitudes: [1.0, 1.0],
-                    seam: Some(Seam {
-                        point,
-                        normal: seg.frame.left * side.signum(),
-                        up,
-                    }),
-                    side: None,
-                    order: torso_order.clamp(6, 16),
-                };
-                (li, spec)
-            })
-            .collect();
-    }
+    let leg_specs = leg_transition_specs(parts, ti, seg, crotch_level);
+    let mut closed = leg_specs.len() == 2;
     // Hanging arms: the arm's first section to the torso's shoulder, cut
     // by the vertical plane through the armpit (the torso's loops above
     // the armpit stop just past it, `torso_without_arms`).
-    let arms: Vec<(usize, TransitionSpec)> = parts
-        .iter()
-        .enumerate()
-        .filter_map(|(ai, p)| {
-            let sh = hanging_shoulder(seg, p.name).filter(|_| shoulders.side_of(p.name))?;
-            let along = sh.direction.dot(sh.normal);
-            if along.abs() < 1e-6 {
-                return None;
-            }
-            // Where the arm's axis line meets the plane.
-            let lambda = (sh.armpit - sh.start).dot(sh.normal) / along;
-            // The contour's Fourier order: at 8-24 (the arm's first
-            // curve's) the transition's end lay 0.5-1.8 mm off the torso's
-            // surface, at 32 0.08-0.6 mm (reconstruct_real).
-            let order = 32;
-            Some((
-                ai,
-                TransitionSpec {
-                    from_start: true,
-                    to_start: false,
-                    magnitudes: [1.0, 1.0],
-                    seam: None,
-                    side: Some(SideCut {
-                        point: sh.start + sh.direction * lambda,
-                        normal: sh.normal,
-                    }),
-                    order,
-                },
-            ))
-        })
-        .collect();
+    let arms = arm_transition_specs(parts, seg, shoulders);
     // A side arm left out of the model, or whose axis line never meets its
     // side plane, has no transition either: the torso must reach into it
     // instead.
@@ -935,19 +873,7 @@ fn assemble(
         }
     }
     if !closed {
-        // Close the torso's bottom flat.
-        let torso = &parts[ti].part;
-        let options = PartOptions {
-            start_cap: CapKind::Flat,
-            ..*torso.options()
-        };
-        match Part::new(torso.sections().to_vec(), &options) {
-            Ok(p) => {
-                parts[ti].part = p;
-                warnings.push("torso: bottom closed flat (no leg transitions)".to_string());
-            }
-            Err(e) => warnings.push(format!("torso: bottom left open ({e})")),
-        }
+        close_bottom_flat(&mut parts[ti], warnings);
     }
     let limit = ARM_TRANSITION_LIMIT * seg.height;
     for (&(ai, _), (result, rms)) in arms.iter().zip(results) {
@@ -965,35 +891,154 @@ fn assemble(
         }
     }
     // Neck: torso's last section to the head's first, where apart.
-    if let Some(hi) = parts.iter().position(|p| p.name == PartName::Head) {
-        let a = parts[ti].part.curves().last().map(|c| c.frame.origin);
-        let b = parts[hi].part.curves()[0].frame.origin;
-        if a.is_some_and(|a| a.distance(b) > NECK_GAP * seg.height) {
-            let spec = TransitionSpec {
-                from_start: false,
-                to_start: true,
-                magnitudes: [1.0, 1.0],
-                seam: None,
-                side: None,
-                order: 1,
-            };
-            // From the torso (u = 0) to the head.
-            let (f, t) = (&parts[ti].part, &parts[hi].part);
-            match Transition::boundaries(f, t, &spec).and_then(|c| {
-                let magnitudes = fit_magnitudes(&c, &distance)?;
-                let [p0, t0, p1, t1] = c;
-                Transition::hermite(p0, t0, p1, t1, TransitionSpec { magnitudes, ..spec })
-            }) {
-                Ok(transition) => out.push(BodyTransition {
-                    from: PartName::Torso,
-                    to: PartName::Head,
-                    transition,
-                }),
-                Err(e) => warnings.push(format!("head: no transition to the torso ({e})")),
-            }
-        }
+    if let Some(t) = neck_transition(parts, ti, seg, input, warnings) {
+        out.push(t);
     }
     (out, poor)
+}
+
+/// The legs' transitions to the torso (part `ti`): both or none, each
+/// ending on the seam through the crotch (at its level, horizontally midway
+/// between the legs' first centres).
+fn leg_transition_specs(
+    parts: &[BodyPart],
+    ti: usize,
+    seg: &Segmentation,
+    crotch_level: Real,
+) -> Vec<(usize, TransitionSpec)> {
+    let legs: Vec<usize> = parts
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| matches!(p.name, PartName::LeftLeg | PartName::RightLeg))
+        .map(|(i, _)| i)
+        .collect();
+    let leg_centre = |i: usize| parts[i].part.curves()[0].frame.origin;
+    let mut leg_specs: Vec<(usize, TransitionSpec)> = Vec::new();
+    let up = seg.frame.up;
+    if legs.len() == 2 {
+        let mid = (leg_centre(legs[0]) + leg_centre(legs[1])) * 0.5;
+        let point = mid + up * (crotch_level - mid.dot(up));
+        let torso_order = parts[ti].part.curves()[0].order();
+        leg_specs = legs
+            .iter()
+            .map(|&li| {
+                let side = (leg_centre(li) - point).dot(seg.frame.left);
+                let spec = TransitionSpec {
+                    from_start: true,
+                    to_start: true,
+                    magnitudes: [1.0, 1.0],
+                    seam: Some(Seam {
+                        point,
+                        normal: seg.frame.left * side.signum(),
+                        up,
+                    }),
+                    side: None,
+                    order: torso_order.clamp(6, 16),
+                };
+                (li, spec)
+            })
+            .collect();
+    }
+    leg_specs
+}
+
+/// The hanging arms' transitions: the arm's first section to the torso's
+/// shoulder, cut by the vertical plane through the armpit (the torso's
+/// loops above the armpit stop just past it, `torso_without_arms`).
+fn arm_transition_specs(
+    parts: &[BodyPart],
+    seg: &Segmentation,
+    shoulders: Shoulders,
+) -> Vec<(usize, TransitionSpec)> {
+    parts
+        .iter()
+        .enumerate()
+        .filter_map(|(ai, p)| {
+            let sh = hanging_shoulder(seg, p.name).filter(|_| shoulders.side_of(p.name))?;
+            let along = sh.direction.dot(sh.normal);
+            if along.abs() < 1e-6 {
+                return None;
+            }
+            // Where the arm's axis line meets the plane.
+            let lambda = (sh.armpit - sh.start).dot(sh.normal) / along;
+            // The contour's Fourier order: at 8-24 (the arm's first
+            // curve's) the transition's end lay 0.5-1.8 mm off the torso's
+            // surface, at 32 0.08-0.6 mm (reconstruct_real).
+            let order = 32;
+            Some((
+                ai,
+                TransitionSpec {
+                    from_start: true,
+                    to_start: false,
+                    magnitudes: [1.0, 1.0],
+                    seam: None,
+                    side: Some(SideCut {
+                        point: sh.start + sh.direction * lambda,
+                        normal: sh.normal,
+                    }),
+                    order,
+                },
+            ))
+        })
+        .collect()
+}
+
+/// Closes the torso's bottom flat (no leg transitions close it).
+fn close_bottom_flat(torso: &mut BodyPart, warnings: &mut Vec<String>) {
+    let options = PartOptions {
+        start_cap: CapKind::Flat,
+        ..*torso.part.options()
+    };
+    match Part::new(torso.part.sections().to_vec(), &options) {
+        Ok(p) => {
+            torso.part = p;
+            warnings.push("torso: bottom closed flat (no leg transitions)".to_string());
+        }
+        Err(e) => warnings.push(format!("torso: bottom left open ({e})")),
+    }
+}
+
+/// The neck's transition from the torso (part `ti`, its last section) to
+/// the head's first section, where they are apart.
+fn neck_transition(
+    parts: &[BodyPart],
+    ti: usize,
+    seg: &Segmentation,
+    input: &InputDistance,
+    warnings: &mut Vec<String>,
+) -> Option<BodyTransition> {
+    let hi = parts.iter().position(|p| p.name == PartName::Head)?;
+    let distance = |points: &[Point3]| input.distances(points);
+    let a = parts[ti].part.curves().last().map(|c| c.frame.origin);
+    let b = parts[hi].part.curves()[0].frame.origin;
+    if !a.is_some_and(|a| a.distance(b) > NECK_GAP * seg.height) {
+        return None;
+    }
+    let spec = TransitionSpec {
+        from_start: false,
+        to_start: true,
+        magnitudes: [1.0, 1.0],
+        seam: None,
+        side: None,
+        order: 1,
+    };
+    // From the torso (u = 0) to the head.
+    let (f, t) = (&parts[ti].part, &parts[hi].part);
+    match Transition::boundaries(f, t, &spec).and_then(|c| {
+        let magnitudes = fit_magnitudes(&c, &distance)?;
+        let [p0, t0, p1, t1] = c;
+        Transition::hermite(p0, t0, p1, t1, TransitionSpec { magnitudes, ..spec })
+    }) {
+        Ok(transition) => Some(BodyTransition {
+            from: PartName::Torso,
+            to: PartName::Head,
+            transition,
+        }),
+        Err(e) => {
+            warnings.push(format!("head: no transition to the torso ({e})"));
+            None
+        }
+    }
 }
 
 /// The root mean square of the distances from a transition's surface to

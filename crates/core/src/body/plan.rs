@@ -613,16 +613,10 @@ pub(super) fn build_part(
             Ok(part) => {
                 // A dome must point at its tip: where the last sections
                 // wobble (a scanned hand) the end tangent can point sideways
-                // and the dome miss the tip by centimetres; drop the last
-                // section and retry, at most three times. Scans only:
-                // measured, the external scan's right hand went from 27 to
-                // 4 mm RMS (body 8.0 -> 4.6 mm), while on meshes the rule
-                // dropped good hand sections (male 3.1 -> 4.2 mm).
-                // Not for the soles: their dome is shallow (its direction
-                // hardly moves it) and the foot outlines' centres shift
-                // heel to toe, so the rule dropped the scans' lowest foot
-                // sections (male virtual scan: 618 of 2618 samples below
-                // 0.05 H uncovered).
+                // and the dome miss the tip; drop the last section and
+                // retry, at most three times. Scans only (on meshes it drops
+                // good hand sections); not for the soles, whose dome is
+                // shallow and whose outlines' centres shift heel to toe.
                 let check = scan && !sole && dome_retries < 3;
                 if let (true, Some(tip), Some(cap), Some(last)) =
                     (check, tip, part.end_cap(), cuts.last())
@@ -637,13 +631,6 @@ pub(super) fn build_part(
                     // centres drift with the thumb): then the dome goes
                     // along the normal and the section stays (once; the
                     // hand's dome shape is chosen later, `shaped_end`).
-                    // Measured: the external scan 3.64 / 6.43 mm / 98.31 %
-                    // → 3.16 / 5.53 / 98.20 % (its right hand's last
-                    // sections had been dropped and one dome spanned the
-                    // hand), the base virtual scan's p95 4.64 → 4.60 mm,
-                    // the pose variants' scans 4.80 / 8.98 → 4.65 / 8.11
-                    // (T) and 3.18 / 5.76 → 2.80 / 4.90 (legs spread);
-                    // the other inputs unchanged.
                     let normal = last.fit.curve.frame.e1.cross(last.fit.curve.frame.e2);
                     let along = (tip - g).normalized().map_or(0.0, |b| normal.dot(b).abs());
                     if let CapKind::Dome {
@@ -711,17 +698,7 @@ pub(super) fn build_part(
                         continue;
                     }
                 }
-                let fits = cuts
-                    .iter()
-                    .map(|c| SectionFit {
-                        at: c.at,
-                        order: c.fit.order,
-                        ea: c.fit.errors.ea,
-                        em: c.fit.errors.em,
-                        met: c.fit.met,
-                        ellipse: c.fit.ellipse.as_ref().map(|e| (e.errors.ea, e.errors.em)),
-                    })
-                    .collect();
+                let fits = section_fits(&cuts);
                 return Ok((BodyPart { name, part, fits }, cuts));
             }
             Err(PartError::CrossingPlanes { index, .. })
@@ -746,6 +723,20 @@ pub(super) fn build_part(
             Err(source) => return Err(ReconstructError::Part { part: name, source }),
         }
     }
+}
+
+/// What the report says of each cut's fit.
+fn section_fits(cuts: &[Cut]) -> Vec<SectionFit> {
+    cuts.iter()
+        .map(|c| SectionFit {
+            at: c.at,
+            order: c.fit.order,
+            ea: c.fit.errors.ea,
+            em: c.fit.errors.em,
+            met: c.fit.met,
+            ellipse: c.fit.ellipse.as_ref().map(|e| (e.errors.ea, e.errors.em)),
+        })
+        .collect()
 }
 
 /// A dome end (`tip` given) sized to reach the tip: its height is the

@@ -185,6 +185,72 @@ pub fn measure(
     measure_with(body, model, seg, opts, warnings, &input)
 }
 
+/// The report's samples of both surfaces ([`sample_both_ways`]).
+struct Samples {
+    /// Samples of the model's concatenated pieces.
+    model: Vec<Point3>,
+    /// Each model sample's distance to the input: to the nearest point and
+    /// to the surface the points sample for a cloud, the distance twice
+    /// for a mesh.
+    distances: Vec<(Real, Real)>,
+    /// Each model sample's triangle.
+    on: Vec<u32>,
+    /// The pieces' area.
+    area: Real,
+    /// Samples of the input (a mesh's surface, every k-th point of a cloud).
+    input: Vec<Point3>,
+    /// The input's vertex or point count.
+    input_count: usize,
+    /// A mesh input's ray-casting hierarchy (for the hidden samples).
+    visibility: Option<crate::spatial::visibility::Visibility>,
+}
+
+/// Samples the model's `surface` and measures their distances to the input,
+/// and samples the input.
+fn sample_both_ways(
+    body: BodyGeometry<'_>,
+    input: &InputDistance,
+    surface: &Mesh,
+    opts: &ReconstructOptions,
+) -> Samples {
+    let (model_samples, on, area) = sample_surface_on_triangles(surface, opts.report_samples);
+    let d: Vec<(Real, Real)> = match (body, input) {
+        (BodyGeometry::Cloud(c), InputDistance::Cloud(grid)) => {
+            let nearest = grid.nearest_indices(&model_samples);
+            let spacing = (area / c.positions.len().max(1) as Real).sqrt();
+            let surface = CloudSurface::new(grid, c.normals.as_deref(), spacing)
+                .distances_from(&model_samples, &nearest);
+            nearest.iter().map(|n| n.0).zip(surface).collect()
+        }
+        _ => input
+            .distances(&model_samples)
+            .into_iter()
+            .map(|d| (d, d))
+            .collect(),
+    };
+    let (samples, count, vis) = match body {
+        BodyGeometry::Mesh(m) => (
+            sample_surface(m, opts.report_samples),
+            m.positions.len(),
+            Some(crate::spatial::visibility::Visibility::new(m)),
+        ),
+        BodyGeometry::Cloud(c) => (
+            every_kth(&c.positions, opts.report_samples),
+            c.positions.len(),
+            None,
+        ),
+    };
+    Samples {
+        model: model_samples,
+        distances: d,
+        on,
+        area,
+        input: samples,
+        input_count: count,
+        visibility: vis,
+    }
+}
+
 /// [`measure`] with the input's distance structure already built (the
 /// refinement's).
 pub(super) fn measure_with(
@@ -220,53 +286,31 @@ pub(super) fn measure_with(
     // starting from that point; the spacing `√(A / N)` from all the
     // pieces' area `A`, the outer skin's not known yet, and the `N`
     // points), measured while the skin is found.
-    let ((model_samples, out_all, on, area, input_samples, input_count, vis), (skin, model_dist)) =
-        rayon::join(
-            || {
-                let (model_samples, on, area) =
-                    sample_surface_on_triangles(&surface, opts.report_samples);
-                let d: Vec<(Real, Real)> = match (body, input) {
-                    (BodyGeometry::Cloud(c), InputDistance::Cloud(grid)) => {
-                        let nearest = grid.nearest_indices(&model_samples);
-                        let spacing = (area / c.positions.len().max(1) as Real).sqrt();
-                        let surface = CloudSurface::new(grid, c.normals.as_deref(), spacing)
-                            .distances_from(&model_samples, &nearest);
-                        nearest.iter().map(|n| n.0).zip(surface).collect()
-                    }
-                    _ => input
-                        .distances(&model_samples)
-                        .into_iter()
-                        .map(|d| (d, d))
-                        .collect(),
-                };
-                let (samples, count, vis) = match body {
-                    BodyGeometry::Mesh(m) => (
-                        sample_surface(m, opts.report_samples),
-                        m.positions.len(),
-                        Some(crate::spatial::visibility::Visibility::new(m)),
-                    ),
-                    BodyGeometry::Cloud(c) => (
-                        every_kth(&c.positions, opts.report_samples),
-                        c.positions.len(),
-                        None,
-                    ),
-                };
-                (model_samples, d, on, area, samples, count, vis)
-            },
-            || {
-                // A cavity's surface lies inside its part's solid and bounds
-                // empty space there: it is on the outer skin (the boundary of
-                // the parts' union less the cavities), and nothing is inside
-                // it. Its pieces (the last ones) are nobody's to the skin.
-                let solids = &pieces[..pieces.len() - model.cavities.len().min(pieces.len())];
-                let (closed, model_dist) = rayon::join(
-                    || ClosedPieces::new(&surface, solids),
-                    || MeshDistance::new(&surface),
-                );
-                let skin = closed.outer(&model_dist, opts.skin_depth * model.height);
-                (skin, model_dist)
-            },
-        );
+    let (samples, (skin, model_dist)) = rayon::join(
+        || sample_both_ways(body, input, &surface, opts),
+        || {
+            // A cavity's surface lies inside its part's solid and bounds
+            // empty space there: it is on the outer skin (the boundary of
+            // the parts' union less the cavities), and nothing is inside
+            // it. Its pieces (the last ones) are nobody's to the skin.
+            let solids = &pieces[..pieces.len() - model.cavities.len().min(pieces.len())];
+            let (closed, model_dist) = rayon::join(
+                || ClosedPieces::new(&surface, solids),
+                || MeshDistance::new(&surface),
+            );
+            let skin = closed.outer(&model_dist, opts.skin_depth * model.height);
+            (skin, model_dist)
+        },
+    );
+    let Samples {
+        model: model_samples,
+        distances: out_all,
+        on,
+        area,
+        input: input_samples,
+        input_count,
+        visibility: vis,
+    } = samples;
     let (out_both, out_samples): (Vec<(Real, Real)>, Vec<Point3>) = out_all
         .iter()
         .zip(&on)

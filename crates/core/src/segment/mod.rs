@@ -2925,6 +2925,8 @@ struct LateralArm {
 /// trunk at the shoulder: the same graph as the vertical one, on another
 /// axis. The branch must start in the outer 10 % of the lateral extent,
 /// lie above the crotch and reach `min_len` inward.
+// Its arguments become one struct in the pose-robust segmentation rewrite.
+#[allow(clippy::too_many_arguments)]
 fn lateral_arm(
     body: BodyGeometry<'_>,
     opts: &SegmentOptions,

@@ -285,7 +285,6 @@ pub fn tessellate_part_into(
     options: &TessellationOptions,
     mesh: &mut Mesh,
 ) -> Result<(), TessellateError> {
-    let (mut around, along, cap_rings) = (options.around, options.along, options.cap_rings);
     let segments = part.segments();
     let caps = [part.start_cap(), part.end_cap()];
     let order = segments
@@ -294,45 +293,7 @@ pub fn tessellate_part_into(
         .chain(caps.iter().flatten().map(|c| c.patch.order()))
         .max()
         .unwrap_or(1);
-    let mut along_per: Vec<usize> = vec![along; segments.len()];
-    let mut rings = [cap_rings, cap_rings];
-    if let Some(e) = options.target_edge {
-        if !(e.is_finite() && e > 0.0) {
-            return Err(TessellateError::BadEdgeLength(e));
-        }
-        // The perimeter only picks a sample count: 1e-6 relative accuracy
-        // (the default 1e-10 doubles the quadrature's samples two or three
-        // more times).
-        let perimeter = part
-            .curves()
-            .iter()
-            .map(|c| c.perimeter_with_accuracy(1e-6))
-            .fold(0.0, Real::max);
-        around = steps(perimeter, e).max(8);
-        let eighths = TrigTable::new(8, order);
-        along_per = segments
-            .iter()
-            .map(|s| steps(u_length(&s.patch, &eighths), e))
-            .collect();
-        for (r, cap) in rings.iter_mut().zip(caps) {
-            if let Some(c) = cap {
-                *r = steps(u_length(&c.patch, &eighths), e);
-            }
-        }
-    } else if around < 3 || along < 1 || cap_rings < 1 {
-        return Err(TessellateError::TooCoarse {
-            around,
-            along,
-            cap_rings,
-        });
-    }
-    let ring_count: usize = 1
-        + along_per.iter().sum::<usize>()
-        + caps
-            .iter()
-            .zip(rings)
-            .map(|(c, r)| if c.is_some() { r - 1 } else { 0 })
-            .sum::<usize>();
+    let (around, along_per, rings, ring_count) = resolution(part, options, order)?;
     let vertex_count = ring_count as u128 * around as u128 + 2;
     if vertex_count >= u32::MAX as u128 {
         return Err(TessellateError::TooManyVertices(vertex_count));
@@ -439,6 +400,79 @@ pub fn tessellate_part_into(
         }
     }
 
+    stitch(&rows, around, &mut triangles);
+    if part.is_clockwise() {
+        for t in &mut triangles {
+            t.swap(1, 2);
+        }
+        for nrm in &mut normals {
+            *nrm = -*nrm;
+        }
+    }
+    *mesh = Mesh {
+        positions,
+        normals: Some(normals),
+        triangles,
+    };
+    Ok(())
+}
+
+/// The grid's resolution: points around, rows along each segment, rings
+/// of each cap, and the rings in all (from `options`' counts, or from its
+/// target edge length).
+fn resolution(
+    part: &Part,
+    options: &TessellationOptions,
+    order: usize,
+) -> Result<(usize, Vec<usize>, [usize; 2], usize), TessellateError> {
+    let (mut around, along, cap_rings) = (options.around, options.along, options.cap_rings);
+    let segments = part.segments();
+    let caps = [part.start_cap(), part.end_cap()];
+    let mut along_per: Vec<usize> = vec![along; segments.len()];
+    let mut rings = [cap_rings, cap_rings];
+    if let Some(e) = options.target_edge {
+        if !(e.is_finite() && e > 0.0) {
+            return Err(TessellateError::BadEdgeLength(e));
+        }
+        // The perimeter only picks a sample count: 1e-6 relative accuracy
+        // (the default 1e-10 doubles the quadrature's samples two or three
+        // more times).
+        let perimeter = part
+            .curves()
+            .iter()
+            .map(|c| c.perimeter_with_accuracy(1e-6))
+            .fold(0.0, Real::max);
+        around = steps(perimeter, e).max(8);
+        let eighths = TrigTable::new(8, order);
+        along_per = segments
+            .iter()
+            .map(|s| steps(u_length(&s.patch, &eighths), e))
+            .collect();
+        for (r, cap) in rings.iter_mut().zip(caps) {
+            if let Some(c) = cap {
+                *r = steps(u_length(&c.patch, &eighths), e);
+            }
+        }
+    } else if around < 3 || along < 1 || cap_rings < 1 {
+        return Err(TessellateError::TooCoarse {
+            around,
+            along,
+            cap_rings,
+        });
+    }
+    let ring_count: usize = 1
+        + along_per.iter().sum::<usize>()
+        + caps
+            .iter()
+            .zip(rings)
+            .map(|(c, r)| if c.is_some() { r - 1 } else { 0 })
+            .sum::<usize>();
+    Ok((around, along_per, rings, ring_count))
+}
+
+/// The triangles between consecutive rows (rings of `around` vertices or
+/// apexes), appended to `triangles`.
+fn stitch(rows: &[Row], around: usize, triangles: &mut Vec<[u32; 3]>) {
     let n = around as u32;
     for w in rows.windows(2) {
         let start = triangles.len();
@@ -467,20 +501,6 @@ pub fn tessellate_part_into(
             (Row::Apex(_), Row::Apex(_)) => {}
         }
     }
-    if part.is_clockwise() {
-        for t in &mut triangles {
-            t.swap(1, 2);
-        }
-        for nrm in &mut normals {
-            *nrm = -*nrm;
-        }
-    }
-    *mesh = Mesh {
-        positions,
-        normals: Some(normals),
-        triangles,
-    };
-    Ok(())
 }
 
 /// The powers `u^m` and their derivatives `m u^(m−1)` for `m < pw.len()`,

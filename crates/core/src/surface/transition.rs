@@ -417,6 +417,53 @@ pub fn side_cut_loop(
         }));
     }
     let f: Vec<Real> = pts.iter().map(|p| (*p - q).dot(n)).collect();
+    let (links, points) = plane_crossings(rows.len(), cols, &pts, &f);
+    let chain = innermost_contour(&links, &points, q, n).ok_or(TransitionError::SideCutMisses)?;
+    // Tangents across the curve, from the surface's derivatives there.
+    let len = chain.len();
+    let poly: Vec<(Point3, Vec3)> = (0..len)
+        .map(|k| {
+            let (p, rr, jj) = points[&chain[k]];
+            let r0 = (rr.floor() as usize).min(rows.len() - 1);
+            let r1 = (r0 + 1).min(rows.len() - 1);
+            let w = rr - r0 as Real;
+            let (i0, u0) = rows[r0];
+            let (i1, u1) = rows[r1];
+            let (i, u) = if i0 == i1 {
+                (i0, u0 + (u1 - u0) * w)
+            } else if w < 0.5 {
+                (i0, u0)
+            } else {
+                (i1, u1)
+            };
+            let v = TAU * jj / cols as Real;
+            let du = segs[i].patch.derivative(u, v, 1, 0);
+            let dv = segs[i].patch.derivative(u, v, 0, 1);
+            let along = points[&chain[(k + 1) % len]].0 - points[&chain[(k + len - 1) % len]].0;
+            let t = du
+                .cross(dv)
+                .cross(along)
+                .normalized()
+                .map(|t| if t.dot(n) > 0.0 { -t } else { t })
+                .unwrap_or(-n);
+            (p, t)
+        })
+        .collect();
+    fit_closed(&poly, n, order, reference).ok_or(TransitionError::SideCutMisses)
+}
+
+/// Where the grid's edges cross the plane, by edge id: the point
+/// and its grid parameters (row, column).
+type Crossings = std::collections::HashMap<usize, (Point3, Real, Real)>;
+
+/// Links between crossing ids, both ways.
+type Links = std::collections::HashMap<usize, Vec<usize>>;
+
+/// Marching squares on a grid of `rows × cols` points `pts` (closed
+/// around the columns) with plane offsets `f`: the crossings of the
+/// plane `f = 0` with the grid's edges and the links between them within
+/// each cell.
+fn plane_crossings(rows: usize, cols: usize, pts: &[Point3], f: &[Real]) -> (Links, Crossings) {
     let at = |r: usize, j: usize| r * cols + j % cols;
     // Edge ids: 2 (r cols + j) for the edge (r, j)-(r, j+1), +1 for
     // (r, j)-(r+1, j). A crossing: its point and its grid parameters.
@@ -427,9 +474,9 @@ pub fn side_cut_loop(
             (pts[a] + (pts[b] - pts[a]) * w, w)
         })
     };
-    let mut links: std::collections::HashMap<usize, Vec<usize>> = Default::default();
-    let mut points: std::collections::HashMap<usize, (Point3, Real, Real)> = Default::default();
-    for r in 0..rows.len().saturating_sub(1) {
+    let mut links: Links = Default::default();
+    let mut points: Crossings = Default::default();
+    for r in 0..rows.saturating_sub(1) {
         for j in 0..cols {
             // Corners c0 (r, j), c1 (r, j+1), c2 (r+1, j+1), c3 (r+1, j).
             let c = [at(r, j), at(r, j + 1), at(r + 1, j + 1), at(r + 1, j)];
@@ -471,7 +518,12 @@ pub fn side_cut_loop(
             }
         }
     }
-    // Chain the links into closed contours.
+    (links, points)
+}
+
+/// Chains the links into closed contours and returns the smallest around
+/// the plane's point `q` (normal `n`), as crossing ids in order.
+fn innermost_contour(links: &Links, points: &Crossings, q: Point3, n: Vec3) -> Option<Vec<usize>> {
     let e1 = n.any_perpendicular();
     let e2 = n.cross(e1);
     let flat = |p: Point3| crate::geom::math::Vec2::new((p - q).dot(e1), (p - q).dot(e2));
@@ -517,38 +569,7 @@ pub fn side_cut_loop(
             best = Some((area, chain));
         }
     }
-    let (_, chain) = best.ok_or(TransitionError::SideCutMisses)?;
-    // Tangents across the curve, from the surface's derivatives there.
-    let len = chain.len();
-    let poly: Vec<(Point3, Vec3)> = (0..len)
-        .map(|k| {
-            let (p, rr, jj) = points[&chain[k]];
-            let r0 = (rr.floor() as usize).min(rows.len() - 1);
-            let r1 = (r0 + 1).min(rows.len() - 1);
-            let w = rr - r0 as Real;
-            let (i0, u0) = rows[r0];
-            let (i1, u1) = rows[r1];
-            let (i, u) = if i0 == i1 {
-                (i0, u0 + (u1 - u0) * w)
-            } else if w < 0.5 {
-                (i0, u0)
-            } else {
-                (i1, u1)
-            };
-            let v = TAU * jj / cols as Real;
-            let du = segs[i].patch.derivative(u, v, 1, 0);
-            let dv = segs[i].patch.derivative(u, v, 0, 1);
-            let along = points[&chain[(k + 1) % len]].0 - points[&chain[(k + len - 1) % len]].0;
-            let t = du
-                .cross(dv)
-                .cross(along)
-                .normalized()
-                .map(|t| if t.dot(n) > 0.0 { -t } else { t })
-                .unwrap_or(-n);
-            (p, t)
-        })
-        .collect();
-    fit_closed(&poly, n, order, reference).ok_or(TransitionError::SideCutMisses)
+    best.map(|(_, chain)| chain)
 }
 
 /// A tangent field rescaled to the local gap between the boundary curves:

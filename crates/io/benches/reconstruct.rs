@@ -5,7 +5,7 @@
 //! sections, fits, refinement, skinning and the report's measurements.
 //! The budget is 0.5 s for each on a 2-core machine. The
 //! `segment` entries time the first step alone and the `report` entries
-//! the last one (`measure`: the model's tessellation, its outer skin and
+//! the last one, `clean` the scan's hygiene before it (`measure`: the model's tessellation, its outer skin and
 //! the distances both ways; unlike inside `reconstruct` it also builds
 //! the input's distance structure), both from memory.
 //!
@@ -17,7 +17,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
 use trigbody_core::internals::body::measure;
-use trigbody_core::{reconstruct, ReconstructOptions};
+use trigbody_core::{clean_cloud, reconstruct, CleanOptions, ReconstructOptions};
 use trigbody_core::{segment, BodyGeometry, SegmentOptions};
 use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_io::{
@@ -62,6 +62,9 @@ fn bench(c: &mut Criterion) {
     let so = SegmentOptions::default();
     g.bench_function("segment mesh", |b| {
         b.iter(|| segment(black_box(BodyGeometry::Mesh(&mesh)), &so).expect("mesh"))
+    });
+    g.bench_function("clean virtual scan 200k (floor and strays)", |b| {
+        b.iter(|| clean_cloud(black_box(&scan), &CleanOptions::default()))
     });
     g.bench_function("segment virtual scan 200k", |b| {
         b.iter(|| segment(black_box(BodyGeometry::Cloud(&scan)), &so).expect("scan"))

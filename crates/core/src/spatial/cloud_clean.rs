@@ -27,7 +27,7 @@
 //! The result says how many points went and why, and, when a floor was
 //! found, its normal: the body's up direction.
 
-use std::collections::HashMap;
+use rayon::slice::ParallelSliceMut;
 
 use crate::geom::linalg::symmetric_eigen3;
 use crate::geom::math::{Point3, Real, Vec3};
@@ -115,10 +115,12 @@ pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, Clea
         return (cloud.clone(), report);
     };
     let mut keep = vec![true; pts.len()];
+    let voxels = Voxels::new(pts, opts.voxel * extent);
     if opts.remove_floor {
-        if let Some(floor) = find_floor(pts, extent, opts) {
+        if let Some(floor) = find_floor(&voxels.centroids, extent, opts) {
+            let top = floor.top(pts, extent);
             for (k, p) in keep.iter_mut().zip(pts) {
-                if p.dot(floor.normal) < floor.top {
+                if p.dot(floor.normal) < top {
                     *k = false;
                     report.floor_points += 1;
                 }
@@ -127,17 +129,22 @@ pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, Clea
         }
     }
     if opts.remove_strays {
-        let comps = components(pts, &keep, opts.voxel * extent);
+        let comps = voxels.components(&keep);
         let largest = comps.sizes.iter().copied().max().unwrap_or(0);
-        let min = (opts.min_component * largest as Real).ceil() as usize;
+        let min = ((opts.min_component * largest as Real).ceil() as usize).max(1);
         for (k, &c) in keep.iter_mut().zip(&comps.of_point) {
-            if *k && comps.sizes[c as usize] < min.max(1) {
+            if *k && comps.sizes[c as usize] < min {
                 *k = false;
                 report.stray_points += 1;
             }
         }
-        report.kept_components = comps.sizes.iter().filter(|&&s| s >= min.max(1)).count();
-        report.stray_components = comps.sizes.len() - report.kept_components;
+        let (kept, dropped) = comps.sizes.iter().fold((0, 0), |(a, b), &s| match s {
+            0 => (a, b),
+            s if s >= min => (a + 1, b),
+            _ => (a, b + 1),
+        });
+        report.kept_components = kept;
+        report.stray_components = dropped;
     }
     let positions = pts
         .iter()
@@ -175,19 +182,38 @@ fn robust_extent(pts: &[Point3]) -> Option<Real> {
     (best > 0.0).then_some(best)
 }
 
-/// A floor plane: points with `p · normal < top` are floor.
+/// A floor plane found on the voxel centroids: `p · normal = level`, its
+/// sheet `width` thick either side.
 struct Floor {
     normal: Vec3,
-    top: Real,
+    level: Real,
+    width: Real,
     /// The covered area, as a fraction of `E²`.
     area: Real,
+}
+
+impl Floor {
+    /// Points with `p · normal` below this are floor: three robust
+    /// deviations of every point near the plane above it (at least two
+    /// bins: the centroids average the scanner's noise away).
+    fn top(&self, pts: &[Point3], extent: Real) -> Real {
+        let bin = extent / 500.0;
+        let reach = self.width.max(4.0 * bin);
+        let near: Vec<Point3> = pts
+            .iter()
+            .filter(|p| p.is_finite() && (p.dot(self.normal) - self.level).abs() <= reach)
+            .copied()
+            .collect();
+        let dev = robust_deviation(&near, self.normal, self.level);
+        self.level + (3.0 * dev).max(2.0 * bin)
+    }
 }
 
 fn find_floor(pts: &[Point3], extent: Real, opts: &CleanOptions) -> Option<Floor> {
     let cell = opts.voxel * extent;
     let candidates: Vec<Vec3> = match opts.up.and_then(|u| u.normalized()) {
         Some(u) => vec![u],
-        None => principal_axes(pts, cell)
+        None => principal_axes(pts)
             .into_iter()
             .flat_map(|a| [a, -a])
             .collect(),
@@ -251,7 +277,12 @@ fn floor_along(pts: &[Point3], n: Vec3, extent: Real, cell: Real) -> Option<Floo
         return None;
     }
     let area = covered_area(&sheet, normal, cell) / (extent * extent);
-    Some(Floor { normal, top, area })
+    Some(Floor {
+        normal,
+        level,
+        width,
+        area,
+    })
 }
 
 /// The fullest bin of heights along `n` in the lowest 15 % of their range:
@@ -340,30 +371,15 @@ fn covered_area(pts: &[Point3], n: Vec3, cell: Real) -> Real {
     cells.len() as Real * cell * cell
 }
 
-/// The principal axes of the cloud thinned to one centroid per voxel (so a
-/// densely scanned region does not tilt them).
-fn principal_axes(pts: &[Point3], cell: Real) -> Vec<Vec3> {
-    let mut voxels: HashMap<[i64; 3], (Vec3, usize)> = HashMap::new();
-    for p in pts.iter().filter(|p| p.is_finite()) {
-        let e = voxels.entry(voxel_key(*p, cell)).or_insert((Vec3::ZERO, 0));
-        e.0 += *p;
-        e.1 += 1;
-    }
-    let mut keys: Vec<&[i64; 3]> = voxels.keys().collect();
-    keys.sort();
-    let cents: Vec<Point3> = keys
-        .iter()
-        .map(|k| {
-            let (s, c) = voxels[*k];
-            s * (1.0 / c as Real)
-        })
-        .collect();
+/// The principal axes of the voxel centroids (so a densely scanned region
+/// does not tilt them).
+fn principal_axes(cents: &[Point3]) -> Vec<Vec3> {
     if cents.len() < 3 {
         return Vec::new();
     }
     let c = cents.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / cents.len() as Real);
     let mut m = [[0.0; 3]; 3];
-    for p in &cents {
+    for p in cents {
         let d = (*p - c).to_array();
         for i in 0..3 {
             for j in 0..3 {
@@ -384,45 +400,80 @@ fn voxel_key(p: Point3, cell: Real) -> [i64; 3] {
     ]
 }
 
+/// The finite points in voxels of one side, numbered in key order (so
+/// nothing depends on the points' order).
+struct Voxels {
+    keys: Vec<[i64; 3]>,
+    /// Each voxel's point centroid.
+    centroids: Vec<Point3>,
+    /// Each point's voxel (`u32::MAX` for a non-finite point).
+    of_point: Vec<u32>,
+}
+
 /// Voxel components of the kept points.
 struct Components {
     /// The component of each point (`u32::MAX` for points not kept).
     of_point: Vec<u32>,
-    /// Points per component.
+    /// Kept points per component.
     sizes: Vec<usize>,
 }
 
-fn components(pts: &[Point3], keep: &[bool], cell: Real) -> Components {
-    // Voxels in sorted key order, so the numbering does not depend on the
-    // points' order.
-    let mut keys: Vec<[i64; 3]> = pts
-        .iter()
-        .zip(keep)
-        .filter(|(p, &k)| k && p.is_finite())
-        .map(|(p, _)| voxel_key(*p, cell))
-        .collect();
-    keys.sort_unstable();
-    keys.dedup();
-    let index: HashMap<[i64; 3], u32> = keys
-        .iter()
-        .enumerate()
-        .map(|(i, k)| (*k, i as u32))
-        .collect();
-    let mut parent: Vec<u32> = (0..keys.len() as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            parent[i as usize] = parent[parent[i as usize] as usize];
-            i = parent[i as usize];
+impl Voxels {
+    fn new(pts: &[Point3], cell: Real) -> Voxels {
+        let mut order: Vec<([i64; 3], u32)> = pts
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.is_finite())
+            .map(|(i, p)| (voxel_key(*p, cell), i as u32))
+            .collect();
+        order.par_sort_unstable();
+        let mut keys = Vec::new();
+        let mut centroids = Vec::new();
+        let mut of_point = vec![u32::MAX; pts.len()];
+        for run in order.chunk_by(|a, b| a.0 == b.0) {
+            let v = keys.len() as u32;
+            keys.push(run[0].0);
+            let mut sum = Vec3::ZERO;
+            for &(_, i) in run {
+                sum += pts[i as usize];
+                of_point[i as usize] = v;
+            }
+            centroids.push(sum * (1.0 / run.len() as Real));
         }
-        i
+        Voxels {
+            keys,
+            centroids,
+            of_point,
+        }
     }
-    for (i, k) in keys.iter().enumerate() {
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let nk = [k[0] + dx, k[1] + dy, k[2] + dz];
-                    if let Some(&j) = index.get(&nk) {
-                        let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j));
+
+    /// 26-connected components of the voxels holding a kept point.
+    fn components(&self, keep: &[bool]) -> Components {
+        let n = self.keys.len();
+        let mut kept_voxel = vec![false; n];
+        for (&v, &k) in self.of_point.iter().zip(keep) {
+            if k && v != u32::MAX {
+                kept_voxel[v as usize] = true;
+            }
+        }
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn root(parent: &mut [u32], mut i: u32) -> u32 {
+            while parent[i as usize] != i {
+                parent[i as usize] = parent[parent[i as usize] as usize];
+                i = parent[i as usize];
+            }
+            i
+        }
+        for (i, k) in self.keys.iter().enumerate() {
+            if !kept_voxel[i] {
+                continue;
+            }
+            // Neighbours later in key order (the earlier ones link to this).
+            for d in NEIGHBOURS_AFTER {
+                let nk = [k[0] + d[0], k[1] + d[1], k[2] + d[2]];
+                if let Ok(j) = self.keys.binary_search(&nk) {
+                    if kept_voxel[j] {
+                        let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j as u32));
                         if a != b {
                             parent[a.max(b) as usize] = a.min(b);
                         }
@@ -430,34 +481,55 @@ fn components(pts: &[Point3], keep: &[bool], cell: Real) -> Components {
                 }
             }
         }
-    }
-    let mut label = vec![u32::MAX; keys.len()];
-    let mut next = 0u32;
-    let mut voxel_comp = vec![0u32; keys.len()];
-    for i in 0..keys.len() {
-        let r = root(&mut parent, i as u32) as usize;
-        if label[r] == u32::MAX {
-            label[r] = next;
-            next += 1;
-        }
-        voxel_comp[i] = label[r];
-    }
-    let mut sizes = vec![0usize; next as usize];
-    let of_point: Vec<u32> = pts
-        .iter()
-        .zip(keep)
-        .map(|(p, &k)| {
-            if k && p.is_finite() {
-                let c = voxel_comp[index[&voxel_key(*p, cell)] as usize];
-                sizes[c as usize] += 1;
-                c
-            } else {
-                u32::MAX
+        let mut label = vec![u32::MAX; n];
+        let mut next = 0u32;
+        let mut voxel_comp = vec![u32::MAX; n];
+        for i in 0..n {
+            if !kept_voxel[i] {
+                continue;
             }
-        })
-        .collect();
-    Components { of_point, sizes }
+            let r = root(&mut parent, i as u32) as usize;
+            if label[r] == u32::MAX {
+                label[r] = next;
+                next += 1;
+            }
+            voxel_comp[i] = label[r];
+        }
+        let mut sizes = vec![0usize; next as usize];
+        let of_point = self
+            .of_point
+            .iter()
+            .zip(keep)
+            .map(|(&v, &k)| {
+                if k && v != u32::MAX {
+                    let c = voxel_comp[v as usize];
+                    sizes[c as usize] += 1;
+                    c
+                } else {
+                    u32::MAX
+                }
+            })
+            .collect();
+        Components { of_point, sizes }
+    }
 }
+
+/// The 13 of a voxel's 26 neighbours whose keys sort after its own.
+const NEIGHBOURS_AFTER: [[i64; 3]; 13] = [
+    [0, 0, 1],
+    [0, 1, -1],
+    [0, 1, 0],
+    [0, 1, 1],
+    [1, -1, -1],
+    [1, -1, 0],
+    [1, -1, 1],
+    [1, 0, -1],
+    [1, 0, 0],
+    [1, 0, 1],
+    [1, 1, -1],
+    [1, 1, 0],
+    [1, 1, 1],
+];
 
 #[cfg(test)]
 mod tests {

@@ -18,12 +18,12 @@ use crate::exit::bad;
 use anyhow::Result;
 use std::path::Path;
 use trigbody_core::body::reconstruct_with_progress;
-use trigbody_core::body::{Body, BodyCavity, BodyPart, BodyTransition, Units};
+use trigbody_core::body::{Body, Units};
 use trigbody_core::measure::{measure_mesh, MeasureOptions, Measurements};
 use trigbody_core::measure_model::{compare_with_mesh, measure_body, ModelMeasureOptions};
-use trigbody_core::segment::{BodyFrame, BodyGeometry, PartName};
+use trigbody_core::segment::BodyGeometry;
 use trigbody_core::{Mesh, ReconstructOptions, TessellationOptions};
-use trigbody_io::body_file::part_file_name;
+use trigbody_io::body_file::body_of_model;
 use trigbody_io::model::{merge_pieces, read_model, Model};
 use trigbody_io::{Geometry, ReadOptions};
 
@@ -46,91 +46,11 @@ fn read_model_file(path: &Path) -> Result<Model> {
     Ok(model)
 }
 
-/// The [`Body`] of a model file: its `body` frame and height, its parts by
-/// their file names (`torso`, `head`, `left_arm`, …). A model without a
-/// `body` object (a loft) or with a part name no body has is refused.
+/// The [`Body`] of a model file (see [`body_of_model`]); errors name the
+/// file.
 pub fn body_of_model_file(path: &Path) -> Result<Body> {
-    let file = path.display();
     let model = read_model_file(path)?;
-    let frame = model.body.ok_or_else(|| {
-        bad(format!(
-            "{file}: a model of parts without a \"body\" object (e.g. from `trigbody loft`) has no \
-             body frame to measure; make a body model with `trigbody reconstruct`"
-        ))
-    })?;
-    let units = Units::from_symbol(&model.units).ok_or_else(|| {
-        bad(format!(
-            "{file}: units \"{}\" are not m, cm or mm",
-            model.units
-        ))
-    })?;
-    let names = PartName::ALL;
-    let mut parts = Vec::with_capacity(model.parts.len());
-    let mut cavities = Vec::new();
-    for p in model.parts {
-        if let Some(host) = &p.cavity_of {
-            let within = names
-                .iter()
-                .copied()
-                .find(|n| part_file_name(*n) == host)
-                .ok_or_else(|| {
-                    bad(format!(
-                        "{file}: part \"{}\" is a cavity of \"{host}\", not a body part",
-                        p.name
-                    ))
-                })?;
-            cavities.push(BodyCavity {
-                within,
-                part: p.part,
-                fits: Vec::new(),
-            });
-            continue;
-        }
-        let name = names
-            .iter()
-            .copied()
-            .find(|n| part_file_name(*n) == p.name)
-            .ok_or_else(|| {
-                bad(format!(
-                    "{file}: part \"{}\" is not a body part (torso, head, left_arm, right_arm, \
-                     left_leg, right_leg)",
-                    p.name
-                ))
-            })?;
-        parts.push(BodyPart {
-            name,
-            part: p.part,
-            fits: Vec::new(),
-        });
-    }
-    let part_named = |n: &str| {
-        names
-            .iter()
-            .copied()
-            .find(|k| part_file_name(*k) == n)
-            .ok_or_else(|| bad(format!("{file}: transition names \"{n}\", not a body part")))
-    };
-    let mut transitions = Vec::with_capacity(model.transitions.len());
-    for t in model.transitions {
-        transitions.push(BodyTransition {
-            from: part_named(&t.from)?,
-            to: part_named(&t.to)?,
-            transition: t.transition,
-        });
-    }
-    Ok(Body {
-        transitions,
-        cavities,
-        units,
-        frame: BodyFrame {
-            up: frame.up,
-            front: frame.front,
-            left: frame.left,
-            origin: frame.origin,
-        },
-        height: frame.height,
-        parts,
-    })
+    body_of_model(model).map_err(|e| bad(format!("{}: {e}", path.display())))
 }
 
 /// A body ready to measure or draw: the model, and the input it was

@@ -3,8 +3,8 @@
 
 use crate::model::{Model, ModelBody, ModelPart, ModelTransition};
 use serde_json::{json, Value};
-use trigbody_core::body::{Body, DistanceMm, Report};
-use trigbody_core::segment::PartName;
+use trigbody_core::body::{Body, BodyCavity, BodyPart, BodyTransition, DistanceMm, Report, Units};
+use trigbody_core::segment::{BodyFrame, PartName};
 
 /// The name a part has in model files and GLB nodes: `torso`, `head`,
 /// `left_arm`, `right_arm`, `left_leg`, `right_leg`, `left_foot`,
@@ -83,6 +83,80 @@ pub fn model_of_body(body: &Body) -> Model {
             })
             .collect(),
     }
+}
+
+/// The [`Body`] of a model read from a file, the inverse of
+/// [`model_of_body`]: its `body` frame and height, its parts by their file
+/// names (`torso`, `head`, `left_arm`, …), its cavities and transitions. A
+/// model without a `body` object (a loft), with units other than m, cm or
+/// mm, or with a part name no body has is refused with a message saying so.
+pub fn body_of_model(model: Model) -> Result<Body, String> {
+    let frame = model.body.ok_or_else(|| {
+        "a model of parts without a \"body\" object (e.g. from `trigbody loft`) has no \
+         body frame to measure; make a body model with `trigbody reconstruct`"
+            .to_string()
+    })?;
+    let units = Units::from_symbol(&model.units)
+        .ok_or_else(|| format!("units \"{}\" are not m, cm or mm", model.units))?;
+    let named = |n: &str| {
+        PartName::ALL
+            .iter()
+            .copied()
+            .find(|k| part_file_name(*k) == n)
+    };
+    let mut parts = Vec::with_capacity(model.parts.len());
+    let mut cavities = Vec::new();
+    for p in model.parts {
+        if let Some(host) = &p.cavity_of {
+            let within = named(host).ok_or_else(|| {
+                format!(
+                    "part \"{}\" is a cavity of \"{host}\", not a body part",
+                    p.name
+                )
+            })?;
+            cavities.push(BodyCavity {
+                within,
+                part: p.part,
+                fits: Vec::new(),
+            });
+            continue;
+        }
+        let name = named(&p.name).ok_or_else(|| {
+            format!(
+                "part \"{}\" is not a body part (torso, head, left_arm, right_arm, \
+                 left_leg, right_leg)",
+                p.name
+            )
+        })?;
+        parts.push(BodyPart {
+            name,
+            part: p.part,
+            fits: Vec::new(),
+        });
+    }
+    let part_named =
+        |n: &str| named(n).ok_or_else(|| format!("transition names \"{n}\", not a body part"));
+    let mut transitions = Vec::with_capacity(model.transitions.len());
+    for t in model.transitions {
+        transitions.push(BodyTransition {
+            from: part_named(&t.from)?,
+            to: part_named(&t.to)?,
+            transition: t.transition,
+        });
+    }
+    Ok(Body {
+        transitions,
+        cavities,
+        units,
+        frame: BodyFrame {
+            up: frame.up,
+            front: frame.front,
+            left: frame.left,
+            origin: frame.origin,
+        },
+        height: frame.height,
+        parts,
+    })
 }
 
 fn mm(d: &DistanceMm) -> Value {

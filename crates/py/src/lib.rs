@@ -152,8 +152,9 @@ impl Options {
 }
 
 /// Reconstructs a body from a mesh (`faces` given) or a scan (no faces):
-/// the model and the report as the JSON text `trigbody reconstruct
-/// --report` writes.
+/// the model, the report as the JSON text `trigbody reconstruct
+/// --report` writes, and the seconds the library's `reconstruct` took
+/// (what the Python call adds is the rest of the call's time).
 #[pyfunction]
 #[pyo3(signature = (vertices, faces, normals, options))]
 fn reconstruct(
@@ -162,7 +163,7 @@ fn reconstruct(
     faces: Option<PyReadonlyArray2<'_, u32>>,
     normals: Option<PyReadonlyArray2<'_, f64>>,
     options: Options,
-) -> PyResult<(Model, String)> {
+) -> PyResult<(Model, String, f64)> {
     let opts = options.reconstruct_options()?;
     let positions = points3(&vertices)?;
     let normals = normals.map(|n| points3(&n)).transpose()?;
@@ -180,18 +181,19 @@ fn reconstruct(
             Geometry::Points(c)
         }
     };
-    let (body, report) = py
-        .detach(|| {
-            let g = match &geometry {
-                Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-                Geometry::Points(c) => BodyGeometry::Cloud(c),
-            };
-            reconstruct_body(g, &opts)
-        })
-        .map_err(value_error)?;
+    let (result, seconds) = py.detach(|| {
+        let g = match &geometry {
+            Geometry::Mesh(m) => BodyGeometry::Mesh(m),
+            Geometry::Points(c) => BodyGeometry::Cloud(c),
+        };
+        let started = std::time::Instant::now();
+        let result = reconstruct_body(g, &opts);
+        (result, started.elapsed().as_secs_f64())
+    });
+    let (body, report) = result.map_err(value_error)?;
     let mut text = serde_json::to_string_pretty(&report_json(&report)).map_err(value_error)?;
     text.push('\n');
-    Ok((Model::from_body(&body), text))
+    Ok((Model::from_body(&body), text, seconds))
 }
 
 /// Runs the `trigbody` command line on `args` (without the program name)

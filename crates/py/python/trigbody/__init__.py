@@ -52,9 +52,13 @@ class Report(Mapping):
     ``trigbody reconstruct --report`` (``design_parameters``,
     ``distance_mm``, ``coverage``, ``parts``, ``warnings``, ...)."""
 
-    def __init__(self, text: str) -> None:
+    def __init__(self, text: str, seconds: Optional[float] = None) -> None:
         self._text = text
         self._data = json.loads(text)
+        #: The seconds the library's reconstruction took (None for a report
+        #: read from a file); the rest of ``reconstruct``'s time is the
+        #: package's own (numpy in, model and report out).
+        self.seconds = seconds
 
     def __getitem__(self, key: str) -> Any:
         return self._data[key]
@@ -178,8 +182,8 @@ def reconstruct(
         "ea": ea,
         "em": em,
     }
-    model, report = _trigbody.reconstruct(v, f, n, options)
-    return model, Report(report)
+    model, report, seconds = _trigbody.reconstruct(v, f, n, options)
+    return model, Report(report, seconds)
 
 
 def reconstruct_file(path: Union[str, os.PathLike], **options: Any) -> Tuple[Model, Report]:

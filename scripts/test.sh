@@ -2,7 +2,7 @@
 # The tests: the README's test command, and exactly what CI (.ci/run) runs.
 #  1. the Rust workspace: cargo test --workspace --release;
 #  2. the Python package: a fresh virtual environment (target/py-venv),
-#     maturin, numpy, pytest and dask[distributed] from PyPI, the wheel
+#     maturin, numpy, pytest, dask[distributed] and trimesh from PyPI, the wheel
 #     built by `maturin build --release`, installed with pip, and pytest
 #     (crates/py/tests) against the CLI binary built in step 1.
 # Any failing step fails the script; pytest collecting no test (exit 5)
@@ -19,7 +19,7 @@ venv=target/py-venv
 rm -rf "$venv" target/wheels
 "$python" -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check \
-    "maturin>=1.9,<2" numpy pytest "dask[distributed]"
+    "maturin>=1.9,<2" numpy pytest "dask[distributed]" trimesh
 "$venv/bin/maturin" build --release --quiet -m crates/py/Cargo.toml -o target/wheels
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check target/wheels/trigbody-*.whl
 

@@ -5,6 +5,7 @@ ValueError with the library's message."""
 import json
 import pickle
 import re
+import time
 from pathlib import Path
 
 import numpy as np
@@ -279,3 +280,27 @@ def test_readme_python_example_runs(tmp_path, monkeypatch):
     assert len(code.strip().splitlines()) == 5, code
     monkeypatch.chdir(REPO)
     exec(compile(code, "README.md", "exec"), {})
+
+
+def test_reconstruct_releases_the_gil():
+    # While one thread reconstructs, another keeps running Python: with the
+    # GIL held it could not come back from its sleeps until the call ended.
+    import threading
+
+    v, f, _ = trigbody.read_geometry(BODY)
+    entered, results = threading.Event(), []
+
+    def work():
+        entered.set()
+        results.append(trigbody.reconstruct(v, f))
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    entered.wait()
+    ticks = 0
+    while worker.is_alive():
+        ticks += 1
+        time.sleep(0.001)
+    worker.join()
+    assert results and results[0][1].seconds > 0
+    assert ticks >= 20, f"the main thread ran only {ticks} times during the call"

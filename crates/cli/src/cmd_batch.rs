@@ -121,10 +121,11 @@ fn is_input_file(path: &Path) -> bool {
     path.is_file() && !hidden && Format::from_path(path).is_some()
 }
 
-/// The input files named by `inputs`, sorted and without repeats. A name
+/// The input files named by `inputs`, sorted and without repeats, less
+/// the summaries batch writes in `outdir` (a CSV reads as points). A name
 /// that is neither a file, a folder nor a pattern matching something is
 /// kept: its row says why it cannot be read.
-pub fn expand_inputs(inputs: &[String]) -> Result<Vec<PathBuf>> {
+pub fn expand_inputs(inputs: &[String], outdir: &Path) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
     for s in inputs {
         let path = Path::new(s);
@@ -155,6 +156,11 @@ pub fn expand_inputs(inputs: &[String]) -> Result<Vec<PathBuf>> {
             files.push(path.to_path_buf());
         }
     }
+    let summaries: Vec<PathBuf> = ["summary.csv", "summary.jsonl"]
+        .iter()
+        .filter_map(|n| outdir.join(n).canonicalize().ok())
+        .collect();
+    files.retain(|f| !f.canonicalize().is_ok_and(|c| summaries.contains(&c)));
     files.sort();
     files.dedup();
     Ok(files)
@@ -368,7 +374,7 @@ pub fn run(args: BatchArgs) -> Result<()> {
         Some(n) => n,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    let files = expand_inputs(&args.inputs)?;
+    let files = expand_inputs(&args.inputs, &args.output)?;
     let jobs = jobs(files, &args.output, args.mesh)?;
     std::fs::create_dir_all(&args.output)
         .map_err(|e| bad(format!("{}: {e}", args.output.display())))?;
@@ -503,6 +509,32 @@ mod tests {
         let e = jobs(files, Path::new("out"), None).unwrap_err();
         assert_eq!(code_of(&e), 2);
         assert!(e.to_string().contains("would both write"), "{e}");
+    }
+
+    #[test]
+    fn a_folder_gives_its_meshes_and_scans_not_the_summaries() {
+        let d = std::env::temp_dir().join(format!("trigbody-batch-expand-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        for f in [
+            "b.obj",
+            "a.xyz",
+            "summary.csv",
+            "notes.md",
+            ".hidden.ply",
+            "m.json",
+        ] {
+            std::fs::write(d.join(f), "").unwrap();
+        }
+        let got = expand_inputs(&[d.display().to_string()], &d).unwrap();
+        let names: Vec<_> = got
+            .iter()
+            .map(|p| p.file_name().unwrap().to_owned())
+            .collect();
+        assert_eq!(names, ["a.xyz", "b.obj"]);
+        // Elsewhere, a summary.csv is an input like any other.
+        let got = expand_inputs(&[d.display().to_string()], Path::new("other")).unwrap();
+        assert_eq!(got.len(), 3);
+        let _ = std::fs::remove_dir_all(&d);
     }
 
     #[test]

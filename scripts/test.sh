@@ -12,8 +12,10 @@ cd "$(dirname "$0")/.."
 python=${PYTHON:-python3}
 command -v "$python" >/dev/null || { echo "test.sh: $python not found: the Python tests need Python 3.9 or later" >&2; exit 1; }
 
+# Also builds target/release/trigbody, the binary the Python tests compare
+# with (a separate `cargo build -p trigbody` would resolve other features
+# without the dev-dependencies and rebuild half the tree).
 cargo test --workspace --release
-cargo build --release -p trigbody # the binary the Python tests compare with
 
 venv=target/py-venv
 rm -rf "$venv" target/wheels

@@ -8,9 +8,9 @@ use crate::output::{refuse_input, write_file};
 use crate::progress::ProgressBar;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use trigbody_core::BodyGeometry;
-use trigbody_core::{reconstruct_with_progress, Progress, ReconstructOptions, Report, Units};
+use trigbody_core::{reconstruct_with_progress, Body, Progress, ReconstructOptions, Report, Units};
 use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
@@ -50,6 +50,17 @@ pub struct ReconstructArgs {
     /// The report as JSON.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    #[command(flatten)]
+    pub body: BodyFlags,
+    /// Replace existing output files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// The flags that say how to read and reconstruct a body, shared by
+/// `reconstruct` and `batch`.
+#[derive(Debug, Clone, Args)]
+pub struct BodyFlags {
     /// The up direction: x, y, z, -x, -y, -z or a vector x,y,z (default: found from the data).
     #[arg(long, value_parser = parse_direction, allow_hyphen_values = true)]
     pub up_axis: Option<Vec3>,
@@ -68,9 +79,26 @@ pub struct ReconstructArgs {
     /// Maximum relative error tolerance E_M of every section.
     #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EM)]
     pub em: Real,
-    /// Replace existing output files.
-    #[arg(long)]
-    pub force: bool,
+}
+
+impl BodyFlags {
+    /// The reconstruction options these flags describe (the rest default).
+    pub fn options(&self) -> ReconstructOptions {
+        let mut options = ReconstructOptions {
+            units: match self.units {
+                UnitsFlag::M => Units::Metres,
+                UnitsFlag::Cm => Units::Centimetres,
+                UnitsFlag::Mm => Units::Millimetres,
+            },
+            spacing: self.spacing,
+            ..ReconstructOptions::default()
+        };
+        options.segment.up = self.up_axis;
+        options.segment.front = self.front;
+        options.fit.ea = self.ea;
+        options.fit.em = self.em;
+        options
+    }
 }
 
 /// `x`, `-y`, ... or `x,y,z`.
@@ -162,19 +190,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             read_bytes(BUILT_IN_BODY, Format::Obj, &ReadOptions::default())?,
         ),
     };
-    let mut options = ReconstructOptions {
-        units: match args.units {
-            UnitsFlag::M => Units::Metres,
-            UnitsFlag::Cm => Units::Centimetres,
-            UnitsFlag::Mm => Units::Millimetres,
-        },
-        spacing: args.spacing,
-        ..ReconstructOptions::default()
-    };
-    options.segment.up = args.up_axis;
-    options.segment.front = args.front;
-    options.fit.ea = args.ea;
-    options.fit.em = args.em;
+    let options = args.body.options();
     let body = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
@@ -186,26 +202,62 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
     for w in &report.warnings {
         eprintln!("trigbody: warning: {name}: {w}");
     }
-    if let Some(path) = &args.output {
+    let outputs = Outputs {
+        model: args.output.as_deref(),
+        report: args.report.as_deref(),
+        mesh: args.mesh.as_deref(),
+        skin: args.skin,
+        force: args.force,
+    };
+    write_outputs(&name, &model, &report, &outputs, &inputs)?;
+    print(&format!(
+        "{name}: {} parts, reconstructed in {:.2} s\n{}",
+        model.parts.len(),
+        started.elapsed().as_secs_f64(),
+        table(&report)
+    ))
+}
+
+/// Where a reconstruction's results go (each `None` is not written).
+#[derive(Debug, Clone, Copy)]
+pub struct Outputs<'a> {
+    pub model: Option<&'a Path>,
+    pub report: Option<&'a Path>,
+    pub mesh: Option<&'a Path>,
+    pub skin: crate::cmd_mesh::SkinFlag,
+    pub force: bool,
+}
+
+/// Writes the model file, the report (JSON) and the mesh (by its
+/// extension: .glb one node per piece, .obj/.ply/.stl merged) under the
+/// output policy of [`write_file`]; `name` names the input in errors.
+pub fn write_outputs(
+    name: &str,
+    model: &Body,
+    report: &Report,
+    outputs: &Outputs,
+    inputs: &[&Path],
+) -> Result<()> {
+    if let Some(path) = &outputs.model {
         let mut bytes = Vec::new();
-        write_model(&mut bytes, &model_of_body(&model))?;
-        write_file(path, &bytes, &inputs, args.force)?;
+        write_model(&mut bytes, &model_of_body(model))?;
+        write_file(path, &bytes, inputs, outputs.force)?;
     }
-    if let Some(path) = &args.report {
-        let mut bytes = serde_json::to_vec_pretty(&report_json(&report))?;
+    if let Some(path) = &outputs.report {
+        let mut bytes = serde_json::to_vec_pretty(&report_json(report))?;
         bytes.push(b'\n');
-        write_file(path, &bytes, &inputs, args.force)?;
+        write_file(path, &bytes, inputs, outputs.force)?;
     }
-    if let Some(path) = &args.mesh {
+    if let Some(path) = &outputs.mesh {
         let tess = TessellationOptions {
             target_edge: Some(0.004 * model.height),
             ..TessellationOptions::default()
         };
-        let file_model = model_of_body(&model);
+        let file_model = model_of_body(model);
         let pieces = file_model
             .tessellate_pieces(&tess)
             .map_err(|e| bad(format!("{name}: {e}")))?;
-        let pieces = skin_pieces(&file_model, pieces, args.skin.into());
+        let pieces = skin_pieces(&file_model, pieces, outputs.skin.into());
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -216,17 +268,17 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
                 .iter()
                 .map(|(name, mesh)| NamedMesh { name, mesh })
                 .collect();
-            write_file(path, &glb_bytes(&named)?, &inputs, args.force)?;
+            write_file(path, &glb_bytes(&named)?, inputs, outputs.force)?;
         } else if matches!(
             Format::from_path(path),
             Some(Format::Obj | Format::Ply | Format::Stl)
         ) {
             let all = merge_pieces(&pieces);
             let wo = WriteOptions {
-                overwrite: args.force,
+                overwrite: outputs.force,
                 ..WriteOptions::default()
             };
-            refuse_input(path, &inputs)?;
+            refuse_input(path, inputs)?;
             write_mesh(path, &all, &wo).map_err(bad)?;
         } else {
             return Err(bad(format!(
@@ -235,10 +287,5 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             )));
         }
     }
-    print(&format!(
-        "{name}: {} parts, reconstructed in {:.2} s\n{}",
-        model.parts.len(),
-        started.elapsed().as_secs_f64(),
-        table(&report)
-    ))
+    Ok(())
 }

@@ -3,8 +3,14 @@
 //!
 //! Exit codes: 0 success, 2 bad input or usage (message on stderr naming the
 //! file, line or value), 1 internal failure.
+//!
+//! This file is the root of the `trigbody` library, whose one public item
+//! is [`run`]: the binary (`src/bin/trigbody.rs`) and the Python package's
+//! `python -m trigbody` both call it, so they parse and run the same
+//! commands.
 
 mod body_input;
+mod cmd_batch;
 mod cmd_corpus;
 mod cmd_fit;
 mod cmd_loft;
@@ -22,7 +28,6 @@ mod panels;
 mod progress;
 
 use clap::{Parser, Subcommand};
-use std::process::ExitCode;
 
 /// Compact, smooth human body models from trigonometric cross-section curves.
 #[derive(Debug, Parser)]
@@ -61,15 +66,24 @@ enum Command {
     /// Reconstruct every body of a folder with a manifest.json and judge
     /// each against its ground truth (surfaces both ways, joint centres).
     Corpus(cmd_corpus::CorpusArgs),
+    /// Reconstruct many bodies in parallel: a model and report per input,
+    /// a summary (JSON lines, CSV); failures are rows, not the end.
+    Batch(cmd_batch::BatchArgs),
 }
 
-fn main() -> ExitCode {
-    let cli = match Cli::try_parse() {
+/// Runs the command line on `args` (the program name first) and returns
+/// the exit code; the Python package's `python -m trigbody` calls it too.
+pub fn run<I, T>(args: I) -> u8
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
         Ok(cli) => cli,
         Err(e) => {
             let code = if e.use_stderr() { 2 } else { 0 };
             let _ = e.print();
-            return ExitCode::from(code);
+            return code;
         }
     };
     let result = match cli.command {
@@ -84,12 +98,13 @@ fn main() -> ExitCode {
         Command::Sections(args) => cmd_sections::run(args),
         Command::Scan(args) => cmd_scan::run(args),
         Command::Corpus(args) => cmd_corpus::run(args),
+        Command::Batch(args) => cmd_batch::run(args),
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => 0,
         Err(e) => {
             eprintln!("trigbody: error: {e:#}");
-            ExitCode::from(exit::code_of(&e))
+            exit::code_of(&e)
         }
     }
 }

@@ -31,6 +31,7 @@ pub mod mesh;
 pub mod order;
 pub mod part;
 pub mod patch;
+pub mod rate;
 pub mod scan_section;
 pub mod scanner;
 pub mod section;

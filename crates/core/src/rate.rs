@@ -91,7 +91,7 @@ pub enum RateError {
 
 /// The options at coarseness `c`.
 pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
-    let mut o = base.clone();
+    let mut o = *base;
     o.fit.ea = base.fit.ea * c;
     o.fit.em = base.fit.em * c;
     o.spacing = base.spacing * c.sqrt();
@@ -212,7 +212,6 @@ pub fn reconstruct_for(
         };
         keep(evaluate(end), &mut best);
     }
-    drop(keep);
     let met = best.is_some();
     let Some((coarseness, body, report)) = best.or(any) else {
         return Err(first_error.map_or(

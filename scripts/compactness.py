@@ -424,7 +424,7 @@ def cost_at(points, key, rms, rms_key="rms_mm"):
     return front[-1][1]
 
 
-def summary(results, levels=(1.0, 2.0)):
+def summary(results, levels=(1.0, 1.5, 2.0)):
     rows = []
     for res in results:
         row = {"input": res["name"]}
@@ -447,7 +447,7 @@ def ratio(a, b):
     return "—" if a is None or b is None else f"{a / b:.2f}"
 
 
-def table_md(rows, levels=(1.0, 2.0)):
+def table_md(rows, levels=(1.0, 1.5, 2.0)):
     out = []
     for lv in levels:
         out.append(f"\nAt symmetric RMS {lv:g} mm (— : no setting that accurate)\n")
@@ -476,6 +476,7 @@ def plot(results, path):
         ax.plot([p["rms_mm"] for p in t], [p["parameters"] for p in t], "o-", label="trigbody")
         ax.plot([p["rms_mm"] for p in q], [p["parameters"] for p in q], "s-", label="QEM (3 x V)")
         ax.set_title(res["name"], fontsize=10)
+        ax.set_xlim(0.2, 10)
         ax.set_xlabel("symmetric RMS (mm)")
         ax.set_ylabel("numbers")
         ax.set_xscale("log"); ax.set_yscale("log"); ax.grid(True, which="both", alpha=0.3)
@@ -498,6 +499,10 @@ def plot(results, path):
         ax.set_xscale("log"); ax.set_yscale("log"); ax.grid(True, which="both", alpha=0.3)
         ax.set_xlim(0.3, 10)
         ax.legend(fontsize=7)
+    from matplotlib.ticker import NullFormatter
+
+    for ax in axes.flat:
+        ax.xaxis.set_minor_formatter(NullFormatter())
     fig.tight_layout()
     fig.savefig(path, dpi=90)
 

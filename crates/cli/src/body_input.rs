@@ -24,22 +24,23 @@ use trigbody_core::{measure_mesh, MeasureOptions, Measurements};
 use trigbody_core::{Body, BodyGeometry, Units};
 use trigbody_core::{Mesh, ReconstructOptions, TessellationOptions};
 use trigbody_io::body_file::body_of_model;
-use trigbody_io::model::{merge_pieces, read_model, Model};
+use trigbody_io::model::{merge_pieces, Model};
+use trigbody_io::tbm::read_any_model;
 use trigbody_io::{Geometry, ReadOptions};
 
-/// Whether a path names a model file (`.json`).
+/// Whether a path names a model file (`.json`, or the compact `.tbm`).
 pub fn is_model_file(path: &Path) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        .is_some_and(|e| e.eq_ignore_ascii_case("json") || e.eq_ignore_ascii_case("tbm"))
 }
 
-/// Reads a model file; errors (exit 2) name the file.
-fn read_model_file(path: &Path) -> Result<Model> {
+/// Reads a model file, JSON or compact (told apart by its first bytes);
+/// errors (exit 2) name the file.
+pub fn read_model_file(path: &Path) -> Result<Model> {
     let file = path.display();
-    let reader = std::fs::File::open(path).map_err(|e| bad(format!("{file}: {e}")))?;
-    let model =
-        read_model(std::io::BufReader::new(reader)).map_err(|e| bad(format!("{file}: {e}")))?;
+    let bytes = std::fs::read(path).map_err(|e| bad(format!("{file}: {e}")))?;
+    let model = read_any_model(&bytes).map_err(|e| bad(format!("{file}: {e}")))?;
     if model.parts.is_empty() {
         return Err(bad(format!("{file}: the model has no parts")));
     }

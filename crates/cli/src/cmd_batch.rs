@@ -262,6 +262,7 @@ fn process(job: &Job, options: &ReconstructOptions, args: &BatchArgs) -> Result<
         // `--resume` reaches here only for an input not complete: what is
         // there is the leftover of an interrupted run.
         force: args.force || args.resume,
+        quantum_mm: None,
     };
     write_outputs(&name, &model, &report, &outputs, &[&job.input])?;
     Ok(trigbody_io::body_file::report_json(&report))

@@ -1,4 +1,4 @@
-//! `trigbody mesh MODEL.json -o OUT.glb|obj|ply|stl`: tessellate a model.
+//! `trigbody mesh MODEL.json|MODEL.tbm -o OUT.glb|obj|ply|stl`: tessellate a model.
 
 use crate::exit::bad;
 use crate::output::{refuse_input, write_file};
@@ -7,13 +7,14 @@ use clap::Args;
 use std::path::PathBuf;
 use trigbody_core::{Real, TessellationOptions};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
-use trigbody_io::model::{merge_pieces, read_model, skin_pieces};
+use trigbody_io::model::{merge_pieces, skin_pieces};
 use trigbody_io::{write_mesh, Format, WriteOptions};
 
 /// Arguments of `trigbody mesh`.
 #[derive(Debug, Args)]
 pub struct MeshArgs {
-    /// The model file (`trigbody loft` writes one).
+    /// The model file: JSON (`trigbody loft` and `reconstruct` write one)
+    /// or compact `.tbm` (`reconstruct -o body.tbm`).
     pub model: PathBuf,
     /// The mesh to write: .glb (one node per part), .obj, .ply or .stl (all parts in one mesh).
     #[arg(short, long)]
@@ -58,7 +59,6 @@ impl From<SkinFlag> for trigbody_io::model::Skin {
 }
 
 pub fn run(args: MeshArgs) -> Result<()> {
-    let file = args.model.display().to_string();
     let out_name = args.output.display().to_string();
     let ext = args
         .output
@@ -73,12 +73,7 @@ pub fn run(args: MeshArgs) -> Result<()> {
             "{out_name}: unknown mesh format; use a .glb, .obj, .ply or .stl file name"
         )));
     }
-    let reader = std::fs::File::open(&args.model).map_err(|e| bad(format!("{file}: {e}")))?;
-    let model =
-        read_model(std::io::BufReader::new(reader)).map_err(|e| bad(format!("{file}: {e}")))?;
-    if model.parts.is_empty() {
-        return Err(bad(format!("{file}: the model has no parts")));
-    }
+    let model = crate::body_input::read_model_file(&args.model)?;
     let options = TessellationOptions {
         around: args.around,
         along: args.along,

@@ -9,12 +9,14 @@ use crate::progress::ProgressBar;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
+use trigbody_core::internals::body::rate::{reconstruct_for, Goal, RateOptions, RateOutcome};
 use trigbody_core::BodyGeometry;
 use trigbody_core::{reconstruct_with_progress, Body, Progress, ReconstructOptions, Report, Units};
 use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, skin_pieces, write_model};
+use trigbody_io::tbm::{encode_tbm, TbmOptions};
 use trigbody_io::{
     read_bytes, read_geometry, write_mesh, Format, Geometry, ReadOptions, WriteOptions,
 };
@@ -37,7 +39,8 @@ pub struct ReconstructArgs {
     /// A body mesh (.obj, .ply, .stl) or scan (.ply points, .xyz); without
     /// it, the built-in body.
     pub input: Option<PathBuf>,
-    /// The model file to write (JSON, model format version 5).
+    /// The model file to write: JSON (model format version 5), or the
+    /// compact binary model for a `.tbm` name (docs/model-format.md).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// A mesh of the model's surface: .glb (one node per part), .obj, .ply, .stl.
@@ -52,6 +55,18 @@ pub struct ReconstructArgs {
     pub report: Option<PathBuf>,
     #[command(flatten)]
     pub body: BodyFlags,
+    /// Choose the spacing and tolerances (--spacing, --ea, --em scaled
+    /// together) for the smallest model within this symmetric RMS distance
+    /// to the input, in mm: a search over reconstructions (docs/compactness.md).
+    #[arg(long, conflicts_with = "max_parameters")]
+    pub target_rms: Option<Real>,
+    /// The same for the most accurate model of at most N design parameters.
+    #[arg(long)]
+    pub max_parameters: Option<usize>,
+    /// Quantization step in mm of a `.tbm` model file's coefficients and
+    /// planes (default 0.00002 × the body's height, 0.035 mm on 1.73 m).
+    #[arg(long)]
+    pub quantum: Option<Real>,
     /// Replace existing output files.
     #[arg(long)]
     pub force: bool,
@@ -172,6 +187,31 @@ fn table(r: &Report) -> String {
     t
 }
 
+fn search_lines(out: &RateOutcome, goal: Goal) -> String {
+    let mut t = String::from("rate search (coarseness c: E_a, E_M x c, spacing x sqrt c):");
+    for trial in &out.trials {
+        match (trial.design_parameters, trial.rms_mm) {
+            (Some(n), Some(r)) => {
+                t.push_str(&format!(" c {:.3}: {n} / {r:.2} mm;", trial.coarseness))
+            }
+            _ => t.push_str(&format!(" c {:.3}: failed;", trial.coarseness)),
+        }
+    }
+    let what = match goal {
+        Goal::TargetRms(mm) => format!("rms <= {mm} mm"),
+        Goal::MaxParameters(n) => format!("<= {n} parameters"),
+    };
+    if out.met {
+        t.push_str(&format!("\nchose c {:.3} ({what})\n", out.coarseness));
+    } else {
+        t.push_str(&format!(
+            "\n{what} NOT met: the most accurate model tried (c {:.3})\n",
+            out.coarseness
+        ));
+    }
+    t
+}
+
 pub fn run(args: ReconstructArgs) -> Result<()> {
     let started = std::time::Instant::now();
     let mut bar = ProgressBar::new("reconstructing");
@@ -190,14 +230,46 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             read_bytes(BUILT_IN_BODY, Format::Obj, &ReadOptions::default())?,
         ),
     };
+    if let Some(q) = args.quantum {
+        if !(q.is_finite() && q > 0.0) {
+            return Err(bad(format!(
+                "--quantum {q}: must be a positive number of mm"
+            )));
+        }
+    }
     let options = args.body.options();
     let body = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
     };
-    let result = reconstruct_with_progress(body, &options, &mut |p| bar.update(p));
-    bar.finish();
-    let (model, report) = result.map_err(|e| bad(format!("{name}: {e}")))?;
+    let goal = match (args.target_rms, args.max_parameters) {
+        (Some(t), _) => Some(Goal::TargetRms(t)),
+        (None, Some(n)) => Some(Goal::MaxParameters(n)),
+        (None, None) => None,
+    };
+    let mut search = String::new();
+    let (model, report) = match goal {
+        None => {
+            let result = reconstruct_with_progress(body, &options, &mut |p| bar.update(p));
+            bar.finish();
+            result.map_err(|e| bad(format!("{name}: {e}")))?
+        }
+        Some(goal) => {
+            let mut k = 0;
+            let result = reconstruct_for(body, &options, goal, &RateOptions::default(), |_| {
+                k += 1;
+                bar.update(Progress {
+                    stage: "rate search",
+                    done: k,
+                    total: RateOptions::default().steps + 2,
+                })
+            });
+            bar.finish();
+            let out = result.map_err(|e| bad(format!("{name}: {e}")))?;
+            search = search_lines(&out, goal);
+            (out.body, out.report)
+        }
+    };
     let inputs: Vec<&std::path::Path> = args.input.as_deref().into_iter().collect();
     for w in &report.warnings {
         eprintln!("trigbody: warning: {name}: {w}");
@@ -208,10 +280,11 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         mesh: args.mesh.as_deref(),
         skin: args.skin,
         force: args.force,
+        quantum_mm: args.quantum,
     };
-    write_outputs(&name, &model, &report, &outputs, &inputs)?;
+    let tbm_line = write_outputs(&name, &model, &report, &outputs, &inputs)?;
     print(&format!(
-        "{name}: {} parts, reconstructed in {:.2} s\n{}",
+        "{name}: {} parts, reconstructed in {:.2} s\n{search}{}{tbm_line}",
         model.parts.len(),
         started.elapsed().as_secs_f64(),
         table(&report)
@@ -226,6 +299,8 @@ pub struct Outputs<'a> {
     pub mesh: Option<&'a Path>,
     pub skin: crate::cmd_mesh::SkinFlag,
     pub force: bool,
+    /// The quantization step of a `.tbm` model file, in mm (None: its default).
+    pub quantum_mm: Option<Real>,
 }
 
 /// Writes the model file, the report (JSON) and the mesh (by its
@@ -237,10 +312,35 @@ pub fn write_outputs(
     report: &Report,
     outputs: &Outputs,
     inputs: &[&Path],
-) -> Result<()> {
+) -> Result<String> {
+    let mut tbm_line = String::new();
     if let Some(path) = &outputs.model {
-        let mut bytes = Vec::new();
-        write_model(&mut bytes, &model_of_body(model))?;
+        let compact = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("tbm"));
+        let bytes = if compact {
+            let mm = model.units.to_mm();
+            let tbm = TbmOptions {
+                step: outputs.quantum_mm.map(|q| q / mm),
+                ..TbmOptions::default()
+            };
+            let (bytes, s) = encode_tbm(&model_of_body(model), &tbm).map_err(bad)?;
+            tbm_line = format!(
+                "{}: {} bytes, {} section numbers, step {:.4} mm, curve points within {:.3} mm (bound; measured {:.3} mm)\n",
+                path.display(),
+                s.bytes,
+                s.section_numbers,
+                s.step * mm,
+                s.bound * mm,
+                s.max_error * mm
+            );
+            bytes
+        } else {
+            let mut bytes = Vec::new();
+            write_model(&mut bytes, &model_of_body(model))?;
+            bytes
+        };
         write_file(path, &bytes, inputs, outputs.force)?;
     }
     if let Some(path) = &outputs.report {
@@ -287,5 +387,5 @@ pub fn write_outputs(
             )));
         }
     }
-    Ok(())
+    Ok(tbm_line)
 }

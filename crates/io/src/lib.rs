@@ -49,6 +49,7 @@ pub mod obj;
 mod options;
 pub mod ply;
 pub mod stl;
+pub mod tbm;
 mod text;
 pub mod xyz;
 

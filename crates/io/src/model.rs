@@ -575,6 +575,12 @@ fn sections_file_levels(doc: &Value, what: &str) -> Result<Vec<Vec<TrigCurve>>, 
 /// Parses a model from JSON text.
 pub fn read_model<R: Read>(reader: R) -> Result<Model, ModelError> {
     let doc: Value = serde_json::from_reader(reader).map_err(ModelError::Json)?;
+    model_of_value(doc)
+}
+
+/// The model of a parsed JSON document (also the last step of reading a
+/// compact `.tbm` file, which rebuilds this document).
+pub(crate) fn model_of_value(doc: Value) -> Result<Model, ModelError> {
     match doc.get("format") {
         Some(Value::String(s)) if s == MODEL_FORMAT => {}
         other => {
@@ -861,7 +867,7 @@ struct BodyRecord {
 }
 
 #[derive(Serialize)]
-struct ModelRecord<'a> {
+pub(crate) struct ModelRecord<'a> {
     format: &'static str,
     version: u64,
     units: &'a str,
@@ -872,7 +878,7 @@ struct ModelRecord<'a> {
     transitions: Vec<TransitionRecord>,
 }
 
-fn model_record(model: &Model) -> ModelRecord<'_> {
+pub(crate) fn model_record(model: &Model) -> ModelRecord<'_> {
     let parts = model
         .parts
         .iter()

@@ -34,3 +34,25 @@ fn saved_corpus_never_panics() {
     }
     assert!(files >= 12, "only {files} corpus files found");
 }
+
+/// The compact model reader's corpus (`fuzz/corpus/tbm/`): valid files,
+/// truncated and damaged ones. Never a panic; the valid seeds read.
+#[test]
+fn saved_tbm_corpus_never_panics() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus/tbm");
+    let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    let (mut files, mut valid) = (0, 0);
+    for entry in entries {
+        let path = entry.expect("directory entry").path();
+        let data = std::fs::read(&path).expect("corpus file");
+        let outcome = std::panic::catch_unwind(|| trigbody_io::tbm::read_any_model(&data).is_ok());
+        let ok = outcome.unwrap_or_else(|_| panic!("{} panicked", path.display()));
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if name.starts_with("valid_") {
+            assert!(ok, "{name} should read");
+            valid += 1;
+        }
+        files += 1;
+    }
+    assert!(files >= 6 && valid >= 1, "{files} files, {valid} valid");
+}

@@ -83,6 +83,7 @@ use thiserror::Error;
 
 mod cavity;
 mod plan;
+pub mod rate;
 mod report;
 
 pub use cavity::*;

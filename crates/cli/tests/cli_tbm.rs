@@ -1,0 +1,116 @@
+//! End-to-end: the compact model (`reconstruct -o body.tbm`, read by
+//! `mesh` and `measure`; damaged files exit 2 naming the file) and the
+//! rate-distortion options (`--target-rms`, `--max-parameters`), on the
+//! built-in body.
+
+use assert_cmd::Command;
+use std::path::PathBuf;
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("trigbody-tbm-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn trigbody() -> Command {
+    Command::cargo_bin("trigbody").unwrap()
+}
+
+/// The number after `key` in the reconstruct printout.
+fn number_after(stdout: &str, key: &str) -> f64 {
+    let rest = &stdout[stdout
+        .find(key)
+        .unwrap_or_else(|| panic!("no {key:?} in {stdout}"))..];
+    rest[key.len()..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn a_compact_model_is_written_read_and_refused_when_damaged() {
+    let d = dir("roundtrip");
+    let out = trigbody()
+        .current_dir(&d)
+        .args(["reconstruct", "-o", "body.tbm"])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("body.tbm:") && stdout.contains("bytes"),
+        "{stdout}"
+    );
+    let bytes = std::fs::read(d.join("body.tbm")).unwrap();
+    assert!(bytes.starts_with(b"TBM") && bytes.len() < 40_000);
+    for args in [
+        vec!["mesh", "body.tbm", "-o", "body.obj", "--skin", "outer"],
+        vec!["measure", "body.tbm"],
+    ] {
+        let out = trigbody().current_dir(&d).args(&args).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    std::fs::write(d.join("cut.tbm"), &bytes[..bytes.len() / 2]).unwrap();
+    let mut flipped = bytes.clone();
+    flipped[bytes.len() / 3] ^= 0x10;
+    std::fs::write(d.join("flipped.tbm"), flipped).unwrap();
+    for bad in ["cut.tbm", "flipped.tbm"] {
+        for cmd in ["mesh", "measure"] {
+            let mut args = vec![cmd, bad];
+            if cmd == "mesh" {
+                args.extend(["-o", "x.obj"]);
+            }
+            let out = trigbody().current_dir(&d).args(&args).output().unwrap();
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+            assert!(
+                stderr.contains(bad) && stderr.contains("corrupt"),
+                "{stderr}"
+            );
+        }
+    }
+}
+
+/// `trigbody reconstruct ARGS` on the built-in body: its printout, after
+/// checking that it succeeded.
+fn reconstruct_ok(args: &[&str]) -> String {
+    let out = trigbody().arg("reconstruct").args(args).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{args:?}: {stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}
+
+#[test]
+fn a_parameter_budget_is_never_exceeded() {
+    let stdout = reconstruct_ok(&["--max-parameters", "6000"]);
+    let n = number_after(&stdout, "design parameters");
+    assert!(n <= 6000.0 && n > 4000.0, "{n} parameters: {stdout}");
+    let out = trigbody()
+        .args(["reconstruct", "--max-parameters", "50"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("within 50 design parameters"));
+}
+
+#[test]
+fn a_target_rms_is_met_within_ten_percent() {
+    let stdout = reconstruct_ok(&["--target-rms", "2.0"]);
+    let rms = number_after(&stdout, "distance         rms");
+    assert!((1.8..=2.0).contains(&rms), "rms {rms}: {stdout}");
+}

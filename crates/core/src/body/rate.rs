@@ -1,0 +1,235 @@
+//! Rate-distortion control of a reconstruction: the user asks for the
+//! model's accuracy (its symmetric RMS distance to the input, measured on
+//! the outer skin by the [`Report`]) or for its size (design parameters),
+//! instead of the per-section tolerances.
+//!
+//! A first version over the pipeline's global knobs: one coarseness `c`
+//! scales them together, `E_a = c·E_a⁰`, `E_M = c·E_M⁰`, the section
+//! spacing (body and feet) by `√c` and the refinement tolerance by `c`
+//! (`c = 1` is the given options), and a bisection on `log c` (a
+//! reconstruction per trial) finds the coarsest model that meets the
+//! target RMS, or the finest within the parameter budget. Allocating
+//! parameters per part and per section where they lower the error most
+//! would do better at the same size; this search is what the global
+//! knobs can give.
+
+use crate::anatomy::BodyGeometry;
+use crate::body::{reconstruct, Body, ReconstructError, ReconstructOptions, Report};
+use crate::geom::math::Real;
+use thiserror::Error;
+
+/// What the search aims for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Goal {
+    /// The symmetric RMS distance in mm ([`Report::distance_mm`]): the
+    /// smallest model whose RMS is at most this.
+    TargetRms(Real),
+    /// The most accurate model of at most this many design parameters.
+    MaxParameters(usize),
+}
+
+/// How the search runs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RateOptions {
+    /// The finest coarseness tried. Default 0.35.
+    pub min_coarseness: Real,
+    /// The coarsest. Default 6.
+    pub max_coarseness: Real,
+    /// Bisection steps after the bracket. Default 6.
+    pub steps: usize,
+    /// A target RMS is met closely enough (the search stops) when the
+    /// model's RMS lies within this fraction below it. Default 0.05.
+    pub rms_slack: Real,
+}
+
+impl Default for RateOptions {
+    fn default() -> Self {
+        RateOptions {
+            min_coarseness: 0.35,
+            max_coarseness: 6.0,
+            steps: 6,
+            rms_slack: 0.05,
+        }
+    }
+}
+
+/// One reconstruction of the search.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trial {
+    pub coarseness: Real,
+    /// `None` when the reconstruction failed at this coarseness.
+    pub design_parameters: Option<usize>,
+    pub rms_mm: Option<Real>,
+}
+
+/// The model the search chose, and every trial.
+#[derive(Clone, Debug)]
+pub struct RateOutcome {
+    pub body: Body,
+    pub report: Report,
+    /// The chosen model's coarseness.
+    pub coarseness: Real,
+    /// Whether it meets the goal (a target RMS below what the finest
+    /// trial reaches is not met: the most accurate model is returned).
+    pub met: bool,
+    pub trials: Vec<Trial>,
+}
+
+/// Why the search gave no model.
+#[derive(Debug, Error)]
+pub enum RateError {
+    /// Every trial failed; the error of the one at coarseness 1.
+    #[error(transparent)]
+    Reconstruct(#[from] ReconstructError),
+    /// Even the coarsest trial needs more parameters than the budget.
+    #[error("no model within {budget} design parameters: the coarsest reconstruction tried needs {fewest}")]
+    Budget { budget: usize, fewest: usize },
+    /// A goal that is not a positive number.
+    #[error("the goal {0} is not a positive number")]
+    BadGoal(String),
+}
+
+/// The options at coarseness `c`.
+pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
+    let mut o = *base;
+    o.fit.ea = base.fit.ea * c;
+    o.fit.em = base.fit.em * c;
+    o.spacing = base.spacing * c.sqrt();
+    o.foot_spacing = base.foot_spacing * c.sqrt();
+    o.refine_tolerance = base.refine_tolerance * c;
+    o
+}
+
+type Evaluated = (Real, Result<(Body, Report), ReconstructError>);
+
+/// Reconstructs `input` to meet `goal` (see the module's notes).
+pub fn reconstruct_for(
+    input: BodyGeometry<'_>,
+    base: &ReconstructOptions,
+    goal: Goal,
+    options: &RateOptions,
+    mut on_trial: impl FnMut(&Trial),
+) -> Result<RateOutcome, RateError> {
+    match goal {
+        Goal::TargetRms(t) if !(t.is_finite() && t > 0.0) => {
+            return Err(RateError::BadGoal(format!("rms {t} mm")))
+        }
+        Goal::MaxParameters(0) => return Err(RateError::BadGoal("0 parameters".to_string())),
+        _ => {}
+    }
+    let feasible = |r: &Report| match goal {
+        Goal::TargetRms(t) => r.distance_mm.rms <= t,
+        Goal::MaxParameters(n) => r.design_parameters <= n,
+    };
+    // Among feasible models: fewer parameters for a target RMS, a lower
+    // RMS for a budget.
+    let better = |a: &Report, b: &Report| match goal {
+        Goal::TargetRms(_) => a.design_parameters < b.design_parameters,
+        Goal::MaxParameters(_) => a.distance_mm.rms < b.distance_mm.rms,
+    };
+    let close_enough = |r: &Report| match goal {
+        Goal::TargetRms(t) => r.distance_mm.rms >= (1.0 - options.rms_slack) * t,
+        Goal::MaxParameters(_) => false,
+    };
+    let mut trials = Vec::new();
+    let mut evaluate = |c: Real| -> Evaluated {
+        let result = reconstruct(input, &coarsened(base, c));
+        let trial = Trial {
+            coarseness: c,
+            design_parameters: result.as_ref().ok().map(|(_, r)| r.design_parameters),
+            rms_mm: result.as_ref().ok().map(|(_, r)| r.distance_mm.rms),
+        };
+        on_trial(&trial);
+        trials.push(trial);
+        (c, result)
+    };
+    let mut best: Option<(Real, Body, Report)> = None;
+    let mut first_error = None;
+    let mut any: Option<(Real, Body, Report)> = None;
+    let mut keep =
+        |(c, result): Evaluated, best: &mut Option<(Real, Body, Report)>| -> Option<bool> {
+            match result {
+                Ok((body, report)) => {
+                    let ok = feasible(&report);
+                    if ok && best.as_ref().is_none_or(|(_, _, b)| better(&report, b)) {
+                        *best = Some((c, body.clone(), report.clone()));
+                    }
+                    // The fallback when nothing is feasible: the most accurate
+                    // (target RMS) or the smallest (budget) model seen.
+                    let fallback = any.as_ref().is_none_or(|(_, _, a)| match goal {
+                        Goal::TargetRms(_) => report.distance_mm.rms < a.distance_mm.rms,
+                        Goal::MaxParameters(_) => report.design_parameters < a.design_parameters,
+                    });
+                    if fallback {
+                        any = Some((c, body, report));
+                    }
+                    Some(ok)
+                }
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                    None
+                }
+            }
+        };
+    // Feasibility holds on the fine side for a target RMS and on the coarse
+    // side for a budget; bisect the bracket on log c.
+    let fine_feasible = matches!(goal, Goal::TargetRms(_));
+    let (mut lo, mut hi) = (options.min_coarseness.ln(), options.max_coarseness.ln());
+    let start = keep(evaluate(1.0), &mut best);
+    match start {
+        Some(true) if fine_feasible => lo = 0.0,
+        Some(false) if fine_feasible => hi = 0.0,
+        Some(true) => hi = 0.0,
+        Some(false) => lo = 0.0,
+        None => {}
+    }
+    let done = |best: &Option<(Real, Body, Report)>| {
+        best.as_ref().is_some_and(|(_, _, r)| close_enough(r))
+    };
+    for _ in 0..options.steps {
+        if done(&best) {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        match keep(evaluate(mid.exp()), &mut best) {
+            // A failed reconstruction counts as too coarse.
+            None => hi = mid,
+            Some(ok) => {
+                if ok == fine_feasible {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+        }
+    }
+    // Nothing feasible in the bracket: try its far end once.
+    if best.is_none() {
+        let end = if fine_feasible {
+            options.min_coarseness
+        } else {
+            options.max_coarseness
+        };
+        keep(evaluate(end), &mut best);
+    }
+    let met = best.is_some();
+    let Some((coarseness, body, report)) = best.or(any) else {
+        return Err(first_error.map_or(
+            RateError::BadGoal("no trial ran".to_string()),
+            RateError::Reconstruct,
+        ));
+    };
+    if let (false, Goal::MaxParameters(budget)) = (met, goal) {
+        return Err(RateError::Budget {
+            budget,
+            fewest: report.design_parameters,
+        });
+    }
+    Ok(RateOutcome {
+        body,
+        report,
+        coarseness,
+        met,
+        trials,
+    })
+}

@@ -54,7 +54,11 @@ pub mod xyz;
 
 pub use error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 pub use format::Format;
-pub use geometry::Geometry;
+pub use geometry::{Geometry, ReadNotes};
+
+/// The most corners a face may have (OBJ, PLY, ASCII STL); a larger one is
+/// a [`FormatErrorKind::FaceTooLarge`] naming its line or element.
+pub const MAX_FACE_CORNERS: usize = 65_536;
 pub use options::{ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
 
 use std::fs::{File, OpenOptions};
@@ -62,24 +66,35 @@ use std::io::{BufWriter, Read, Write};
 use std::path::Path;
 use trigbody_core::{Mesh, PointCloud};
 
-/// Reads geometry of a known format from any reader.
+/// Reads geometry of a known format from any reader; degenerate and
+/// duplicate triangles are dropped ([`Geometry::clean`]).
 pub fn read_from<R: Read>(reader: R, format: Format, options: &ReadOptions) -> Result<Geometry> {
-    match format {
-        Format::Obj => obj::read(reader, options),
-        Format::Ply => ply::read(reader, options),
-        Format::Stl => stl::read(reader, options),
-        Format::Xyz => xyz::read(reader, options),
-    }
+    let mut data = Vec::new();
+    let mut reader = reader;
+    reader.read_to_end(&mut data)?;
+    read_bytes(&data, format, options)
 }
 
-/// Reads geometry of a known format from bytes in memory.
+/// Reads geometry of a known format from bytes in memory; degenerate and
+/// duplicate triangles are dropped ([`Geometry::clean`]).
 pub fn read_bytes(data: &[u8], format: Format, options: &ReadOptions) -> Result<Geometry> {
-    match format {
+    read_bytes_noted(data, format, options).map(|(g, _)| g)
+}
+
+/// [`read_bytes`], also saying what was cleaned out.
+pub fn read_bytes_noted(
+    data: &[u8],
+    format: Format,
+    options: &ReadOptions,
+) -> Result<(Geometry, ReadNotes)> {
+    let mut geometry = match format {
         Format::Obj => obj::read_bytes(data, options),
         Format::Ply => ply::read_bytes(data, options),
         Format::Stl => stl::read_bytes(data, options),
         Format::Xyz => xyz::read_bytes(data, options),
-    }
+    }?;
+    let notes = geometry.clean()?;
+    Ok((geometry, notes))
 }
 
 fn format_of(path: &Path) -> Result<Format> {
@@ -93,12 +108,30 @@ fn format_of(path: &Path) -> Result<Format> {
 /// [`Geometry::Mesh`], one without (an XYZ file, a PLY or OBJ of points)
 /// [`Geometry::Points`]. Errors name the file.
 pub fn read_geometry(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Geometry> {
+    read_geometry_noted(path, options).map(|(g, _)| g)
+}
+
+/// [`read_geometry`], also saying what was cleaned out. A path that is not
+/// a regular file (a FIFO, a device) is refused before it is opened:
+/// opening a FIFO without a writer would wait forever.
+pub fn read_geometry_noted(
+    path: impl AsRef<Path>,
+    options: &ReadOptions,
+) -> Result<(Geometry, ReadNotes)> {
     let path = path.as_ref();
-    let run = || -> Result<Geometry> {
+    let run = || -> Result<(Geometry, ReadNotes)> {
         let format = format_of(path)?;
+        if !std::fs::metadata(path)?.is_file() {
+            return Err(IoError::WrongKind {
+                path: None,
+                message: "not a regular file (a directory, FIFO or device); give a mesh or \
+                          scan file"
+                    .into(),
+            });
+        }
         let mut data = Vec::new();
         File::open(path)?.read_to_end(&mut data)?;
-        read_bytes(&data, format, options)
+        read_bytes_noted(&data, format, options)
     };
     run().map_err(|e| e.with_path(path))
 }

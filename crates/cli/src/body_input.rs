@@ -148,7 +148,7 @@ pub fn load_body(path: &Path, read: &ReadOptions) -> Result<LoadedBody> {
             input: None,
         });
     }
-    let geometry = trigbody_io::read_geometry(path, read).map_err(bad)?;
+    let geometry = crate::input_file::read_geometry(path, read)?;
     let g = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
@@ -171,7 +171,7 @@ pub fn load_body(path: &Path, read: &ReadOptions) -> Result<LoadedBody> {
 pub fn drawable_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
     if !is_model_file(path) {
         // The reader's errors name the file, line or element, and the value.
-        return trigbody_io::read_mesh(path, read).map_err(bad);
+        return crate::input_file::read_mesh(path, read);
     }
     let file = path.display();
     let model = read_model_file(path)?;
@@ -237,7 +237,7 @@ pub fn measurements(
                  its curves (leave out --direct)"
             )));
         }
-        let mesh = match trigbody_io::read_geometry(path, read).map_err(bad)? {
+        let mesh = match crate::input_file::read_geometry(path, read)? {
             Geometry::Mesh(mesh) => mesh,
             Geometry::Points(_) => {
                 return Err(bad(format!(
@@ -263,7 +263,7 @@ pub fn measurements(
     };
     match (compare, &loaded.input) {
         (Some(other), _) => {
-            let mesh = trigbody_io::read_mesh(other, read).map_err(bad)?;
+            let mesh = crate::input_file::read_mesh(other, read)?;
             compare_with_mesh(&mut m, &mesh);
         }
         (None, Some(Geometry::Mesh(mesh))) => compare_with_mesh(&mut m, mesh),

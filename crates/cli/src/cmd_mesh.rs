@@ -19,16 +19,19 @@ pub struct MeshArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Samples around every curve.
-    #[arg(long, default_value_t = TessellationOptions::default().around)]
+    #[arg(long, default_value_t = TessellationOptions::default().around,
+          value_parser = crate::bounds::count_in(3, 4096))]
     pub around: usize,
     /// Intervals along each patch.
-    #[arg(long, default_value_t = TessellationOptions::default().along)]
+    #[arg(long, default_value_t = TessellationOptions::default().along,
+          value_parser = crate::bounds::count_in(1, 1024))]
     pub along: usize,
     /// Rings on each cap.
-    #[arg(long, default_value_t = TessellationOptions::default().cap_rings)]
+    #[arg(long, default_value_t = TessellationOptions::default().cap_rings,
+          value_parser = crate::bounds::count_in(1, 1024))]
     pub cap_rings: usize,
     /// Target edge length in model units (overrides --around, --along, --cap-rings).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::bounds::positive)]
     pub edge: Option<Real>,
     /// Which surface to write: every piece whole, or only the model's
     /// outer skin (each piece's triangles inside another piece left out).
@@ -79,6 +82,9 @@ pub fn run(args: MeshArgs) -> Result<()> {
     if model.parts.is_empty() {
         return Err(bad(format!("{file}: the model has no parts")));
     }
+    if let Some(edge) = args.edge {
+        check_edge(&model, edge, &file)?;
+    }
     let options = TessellationOptions {
         around: args.around,
         along: args.along,
@@ -112,5 +118,29 @@ pub fn run(args: MeshArgs) -> Result<()> {
         "{out_name}: {} part(s), {v} vertices, {t} triangles",
         model.parts.len()
     );
+    Ok(())
+}
+
+/// The model's size in edges of `--edge` must stay below 4000 (about 16
+/// million vertices per part at most): a tiny edge would tessellate for
+/// minutes into gigabytes. The size is the diagonal of the model's
+/// default (coarse) tessellation.
+fn check_edge(
+    model: &trigbody_io::model::Model,
+    edge: trigbody_core::Real,
+    file: &str,
+) -> Result<()> {
+    let coarse = model
+        .tessellate_pieces(&TessellationOptions::default())
+        .map_err(|e| bad(format!("{file}: {e}")))?;
+    let size = merge_pieces(&coarse)
+        .bounds()
+        .map_or(0.0, |b| (b.max - b.min).norm());
+    let smallest = size / 4000.0;
+    if edge < smallest {
+        return Err(bad(format!(
+            "--edge {edge}: must be at least {smallest:.3e} for {file}, whose size is {size:.4} (1/4000 of it)"
+        )));
+    }
     Ok(())
 }

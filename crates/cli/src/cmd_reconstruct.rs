@@ -15,9 +15,7 @@ use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, skin_pieces, write_model};
-use trigbody_io::{
-    read_bytes, read_geometry, write_mesh, Format, Geometry, ReadOptions, WriteOptions,
-};
+use trigbody_io::{read_bytes, write_mesh, Format, Geometry, ReadOptions, WriteOptions};
 
 /// The built-in body (CC0 MakeHuman average young male, metres; see
 /// `data/bodies/README.md`).
@@ -60,13 +58,14 @@ pub struct ReconstructArgs {
     #[arg(long, value_enum, default_value_t = UnitsFlag::M)]
     pub units: UnitsFlag,
     /// Section spacing along each part, as a fraction of the body's height.
-    #[arg(long, default_value_t = ReconstructOptions::default().spacing)]
+    #[arg(long, default_value_t = ReconstructOptions::default().spacing,
+          value_parser = crate::bounds::real_in(0.002, 0.2))]
     pub spacing: Real,
     /// Average relative error tolerance E_a of every section.
-    #[arg(long, default_value_t = trigbody_core::math::DEFAULT_EA)]
+    #[arg(long, default_value_t = trigbody_core::math::DEFAULT_EA, value_parser = crate::bounds::positive)]
     pub ea: Real,
     /// Maximum relative error tolerance E_M of every section.
-    #[arg(long, default_value_t = trigbody_core::math::DEFAULT_EM)]
+    #[arg(long, default_value_t = trigbody_core::math::DEFAULT_EM, value_parser = crate::bounds::positive)]
     pub em: Real,
     /// Replace existing output files.
     #[arg(long)]
@@ -155,7 +154,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
     let (name, geometry) = match &args.input {
         Some(path) => (
             path.display().to_string(),
-            read_geometry(path, &ReadOptions::default()).map_err(bad)?,
+            crate::input_file::read_geometry(path, &ReadOptions::default())?,
         ),
         None => (
             "built-in body (mh_male.obj)".to_string(),

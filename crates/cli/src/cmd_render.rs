@@ -27,7 +27,7 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Width and height of each view in pixels.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = 1024, value_parser = crate::bounds::pixels_in(16, 8192))]
     pub size: u32,
     /// Views, left to right: front, side, back, left, right, or an azimuth
     /// in degrees (e.g. 45), separated by commas.
@@ -86,7 +86,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
                     args.mm_per_unit
                 )));
             }
-            let target = trigbody_io::read_geometry(reference, &read).map_err(bad)?;
+            let target = crate::input_file::read_geometry(reference, &read)?;
             let mm: Vec<f64> = distances_mm(&mesh, &target, args.mm_per_unit);
             let top = match args.max_mm {
                 Some(t) if t.is_finite() && t > 0.0 => t,

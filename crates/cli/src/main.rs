@@ -5,6 +5,7 @@
 //! file, line or value), 1 internal failure.
 
 mod body_input;
+mod bounds;
 mod cmd_fit;
 mod cmd_loft;
 mod cmd_measure;
@@ -16,6 +17,7 @@ mod cmd_scan;
 mod cmd_sections;
 mod examples;
 mod exit;
+mod input_file;
 mod output;
 mod panels;
 mod progress;

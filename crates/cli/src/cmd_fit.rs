@@ -207,7 +207,8 @@ pub fn fit_points(
 
 /// The image format of an output path, or a bad-input error naming it.
 pub fn image_format(path: &Path) -> Result<ImageFormat> {
-    ImageFormat::from_path(path).ok_or_else(|| {
+    let ext = crate::output::output_extension(path, "svg");
+    ImageFormat::from_path(&Path::new("plot").with_extension(ext)).ok_or_else(|| {
         bad(format!(
             "{}: unknown picture format; use a .svg or .png file name",
             path.display()

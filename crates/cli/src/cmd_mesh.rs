@@ -1,14 +1,14 @@
 //! `trigbody mesh MODEL.json -o OUT.glb|obj|ply|stl`: tessellate a model.
 
 use crate::exit::bad;
-use crate::output::{refuse_input, write_file};
+use crate::output::{output_extension, refuse_input, write_file};
 use anyhow::Result;
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use trigbody_core::{Real, TessellationOptions};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, read_model, skin_pieces};
-use trigbody_io::{write_mesh, Format, WriteOptions};
+use trigbody_io::{write_mesh_as, Format, WriteOptions};
 
 /// Arguments of `trigbody mesh`.
 #[derive(Debug, Args)]
@@ -63,14 +63,9 @@ impl From<SkinFlag> for trigbody_io::model::Skin {
 pub fn run(args: MeshArgs) -> Result<()> {
     let file = args.model.display().to_string();
     let out_name = args.output.display().to_string();
-    let ext = args
-        .output
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-        .unwrap_or_default();
+    let ext = output_extension(&args.output, "ply");
     let glb = ext == "glb";
-    let format = Format::from_path(&args.output);
+    let format = Format::from_path(&Path::new("mesh").with_extension(&ext));
     if !glb && !matches!(format, Some(Format::Obj | Format::Ply | Format::Stl)) {
         return Err(bad(format!(
             "{out_name}: unknown mesh format; use a .glb, .obj, .ply or .stl file name"
@@ -108,7 +103,8 @@ pub fn run(args: MeshArgs) -> Result<()> {
             overwrite: args.force,
             ..WriteOptions::default()
         };
-        write_mesh(&args.output, &merge_pieces(&pieces), &options)
+        let format = format.unwrap_or(Format::Ply);
+        write_mesh_as(&args.output, &merge_pieces(&pieces), format, &options)
             .map_err(|e| bad(e.to_string()))?;
     }
     let (v, t) = pieces.iter().fold((0, 0), |(v, t), (_, m)| {

@@ -4,7 +4,7 @@
 
 use crate::cmd_fit::parse_vec3;
 use crate::exit::{bad, print};
-use crate::output::{refuse_input, write_file};
+use crate::output::{output_extension, refuse_input, refuse_repeated_outputs, write_file};
 use crate::progress::ProgressBar;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
@@ -15,7 +15,7 @@ use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, skin_pieces, write_model};
-use trigbody_io::{read_bytes, write_mesh, Format, Geometry, ReadOptions, WriteOptions};
+use trigbody_io::{read_bytes, write_mesh_as, Format, Geometry, ReadOptions, WriteOptions};
 
 /// The built-in body (CC0 MakeHuman average young male, metres; see
 /// `data/bodies/README.md`).
@@ -145,6 +145,11 @@ fn table(r: &Report) -> String {
 
 pub fn run(args: ReconstructArgs) -> Result<()> {
     let started = std::time::Instant::now();
+    refuse_repeated_outputs(&[
+        ("-o", args.output.as_deref()),
+        ("--report", args.report.as_deref()),
+        ("--mesh", args.mesh.as_deref()),
+    ])?;
     let mut bar = ProgressBar::new("reconstructing");
     bar.update(Progress {
         stage: "reading the input",
@@ -205,28 +210,22 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
             .tessellate_pieces(&tess)
             .map_err(|e| bad(format!("{name}: {e}")))?;
         let pieces = skin_pieces(&file_model, pieces, args.skin.into());
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .unwrap_or_default();
+        let ext = output_extension(path, "glb");
+        let format = Format::from_path(&std::path::Path::new("mesh").with_extension(&ext));
         if ext == "glb" {
             let named: Vec<NamedMesh> = pieces
                 .iter()
                 .map(|(name, mesh)| NamedMesh { name, mesh })
                 .collect();
             write_file(path, &glb_bytes(&named)?, &inputs, args.force)?;
-        } else if matches!(
-            Format::from_path(path),
-            Some(Format::Obj | Format::Ply | Format::Stl)
-        ) {
+        } else if let Some(format @ (Format::Obj | Format::Ply | Format::Stl)) = format {
             let all = merge_pieces(&pieces);
             let wo = WriteOptions {
                 overwrite: args.force,
                 ..WriteOptions::default()
             };
             refuse_input(path, &inputs)?;
-            write_mesh(path, &all, &wo).map_err(bad)?;
+            write_mesh_as(path, &all, format, &wo).map_err(bad)?;
         } else {
             return Err(bad(format!(
                 "{}: unknown mesh format; use a .glb, .obj, .ply or .stl file name",

@@ -59,7 +59,7 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    if !has_extension(&args.output, "png") {
+    if crate::output::output_extension(&args.output, "png") != "png" {
         return Err(bad(format!(
             "{}: the output must be a .png file",
             args.output.display()
@@ -120,12 +120,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
 /// (`.json`) tessellated.
 pub fn load_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
     crate::body_input::drawable_mesh(path, read)
-}
-
-fn has_extension(path: &Path, ext: &str) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }
 
 /// Rendering errors caused by the input or the flags are bad input (exit

@@ -6,7 +6,7 @@ use clap::Args;
 use std::path::PathBuf;
 use trigbody_core::scanner::{virtual_scan, ScannerOptions};
 use trigbody_core::Real;
-use trigbody_io::{write_point_cloud, ReadOptions, WriteOptions};
+use trigbody_io::{write_point_cloud_as, Format, ReadOptions, WriteOptions};
 
 /// Arguments of `trigbody scan`. Each option maps onto a field of
 /// `ScannerOptions`.
@@ -45,6 +45,15 @@ pub struct ScanArgs {
 
 pub fn run(args: ScanArgs) -> Result<()> {
     let name = args.mesh.display().to_string();
+    let ext = crate::output::output_extension(&args.output, "ply");
+    let format = Format::from_path(&std::path::Path::new("scan").with_extension(&ext))
+        .filter(|f| *f != Format::Stl)
+        .ok_or_else(|| {
+            bad(format!(
+                "{}: unknown point format; use a .ply, .xyz, .csv, .txt or .obj file name",
+                args.output.display()
+            ))
+        })?;
     let mesh = crate::input_file::read_mesh(&args.mesh, &ReadOptions::default())?;
     let opts = ScannerOptions {
         points: args.points,
@@ -62,7 +71,7 @@ pub fn run(args: ScanArgs) -> Result<()> {
         ..Default::default()
     };
     crate::output::refuse_input(&args.output, &[&args.mesh])?;
-    write_point_cloud(&args.output, &scan.cloud, &wopts).map_err(bad)?;
+    write_point_cloud_as(&args.output, &scan.cloud, format, &wopts).map_err(bad)?;
     print(&format!(
         "{name}: {} points from {} cameras (seed {}), {:.1} % of the surface seen; written to {}\n",
         scan.cloud.positions.len(),

@@ -93,6 +93,10 @@ struct CutLoop {
 
 pub fn run(args: SectionsArgs) -> Result<()> {
     let name = args.input.display().to_string();
+    crate::output::refuse_repeated_outputs(&[
+        ("--json", args.json.as_deref()),
+        ("--plot", args.plot.as_deref()),
+    ])?;
     let geometry = crate::input_file::read_geometry(&args.input, &ReadOptions::default())?;
     let axis = args.axis.vector();
     if let Some(r) = args.reference {

@@ -37,6 +37,7 @@
 
 #![warn(missing_docs)]
 
+mod atomic;
 pub mod body_file;
 mod error;
 pub mod fit_json;
@@ -52,6 +53,7 @@ pub mod stl;
 mod text;
 pub mod xyz;
 
+pub use atomic::write_atomically;
 pub use error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 pub use format::Format;
 pub use geometry::{Geometry, ReadNotes};
@@ -61,8 +63,8 @@ pub use geometry::{Geometry, ReadNotes};
 pub const MAX_FACE_CORNERS: usize = 65_536;
 pub use options::{ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
 
-use std::fs::{File, OpenOptions};
-use std::io::{BufWriter, Read, Write};
+use std::fs::File;
+use std::io::{Read, Write};
 use std::path::Path;
 use trigbody_core::{Mesh, PointCloud};
 
@@ -229,8 +231,8 @@ impl<'a> From<&'a Geometry> for GeometryRef<'a> {
 /// gives comma-separated values with a header). An existing file is an
 /// [`IoError::AlreadyExists`] unless `options.overwrite` is true; the check
 /// and the creation are one atomic step. Invalid geometry is rejected before
-/// the file is created, and a file left half-written by a failed write is
-/// removed.
+/// the file is created; the file is written atomically
+/// ([`write_atomically`]): a failure leaves the old file, or none.
 pub fn write_geometry(
     path: impl AsRef<Path>,
     geometry: &Geometry,
@@ -263,7 +265,18 @@ pub fn is_special_file(path: &Path) -> bool {
 
 fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) -> Result<()> {
     let format = format_of(path)?;
-    let csv = Format::is_csv(path);
+    write_path_as(path, geometry, format, Format::is_csv(path), options)
+}
+
+/// Writes geometry to a file in `format` whatever its name (a device such
+/// as `/dev/null` has no extension), atomically ([`write_atomically`]).
+fn write_path_as(
+    path: &Path,
+    geometry: GeometryRef<'_>,
+    format: Format,
+    csv: bool,
+    options: &WriteOptions,
+) -> Result<()> {
     // Check what can be checked before touching the file system.
     geometry
         .validate()
@@ -273,41 +286,41 @@ fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) ->
             .write(std::io::sink(), format, csv, options)
             .map_err(|e| e.with_path(path));
     }
-    // A device or FIFO (`/dev/null`, `/dev/stdout`) is written in place:
-    // nothing is replaced, it cannot be synced, and it is never removed.
-    let special = is_special_file(path);
-    let mut open = OpenOptions::new();
-    open.write(true);
-    if !special {
-        if options.overwrite {
-            open.create(true).truncate(true);
-        } else {
-            open.create_new(true);
-        }
-    }
-    let file = open.open(path).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::AlreadyExists {
-            IoError::AlreadyExists {
-                path: path.to_path_buf(),
-            }
-        } else {
-            IoError::from(e).with_path(path)
-        }
-    })?;
-    let mut w = BufWriter::new(file);
-    let result = geometry.write(&mut w, format, csv, options).and_then(|()| {
-        w.flush()?;
-        if !special {
-            w.get_ref().sync_all()?;
-        }
-        Ok(())
-    });
-    if let Err(e) = result {
-        drop(w);
-        if !special {
-            let _ = std::fs::remove_file(path);
-        }
-        return Err(e.with_path(path));
-    }
-    Ok(())
+    write_atomically(path, options.overwrite, |w| {
+        geometry.write(w, format, csv, options)
+    })
+}
+
+/// Writes a mesh to a file in `format` (see [`write_geometry`]); for a
+/// target whose name gives no format, such as `/dev/null`.
+pub fn write_mesh_as(
+    path: impl AsRef<Path>,
+    mesh: &Mesh,
+    format: Format,
+    options: &WriteOptions,
+) -> Result<()> {
+    write_path_as(
+        path.as_ref(),
+        GeometryRef::Mesh(mesh),
+        format,
+        false,
+        options,
+    )
+}
+
+/// Writes a point cloud to a file in `format` (see [`write_mesh_as`]).
+pub fn write_point_cloud_as(
+    path: impl AsRef<Path>,
+    cloud: &PointCloud,
+    format: Format,
+    options: &WriteOptions,
+) -> Result<()> {
+    let csv = Format::is_csv(path.as_ref());
+    write_path_as(
+        path.as_ref(),
+        GeometryRef::Points(cloud),
+        format,
+        csv,
+        options,
+    )
 }

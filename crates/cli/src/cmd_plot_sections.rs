@@ -83,7 +83,11 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let b = measurements(&args.body, &read, args.direct, args.input.as_deref())?;
+    let units = crate::body_input::InputUnits {
+        units: trigbody_core::body::Units::Metres,
+        flag: "`trigbody reconstruct -o MODEL.json --units`",
+    };
+    let b = measurements(&args.body, &read, args.direct, args.input.as_deref(), units)?;
     let m = &b.measurements;
     // Millimetres per unit: a model file's own unit, else metres.
     let mm = b.units.map_or(1e3, |u| u.to_mm());

@@ -175,6 +175,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         spacing: args.spacing,
         ..ReconstructOptions::default()
     };
+    crate::plausible::check_body_input(&name, &geometry, options.units, "--units")?;
     options.segment.up = args.up_axis;
     options.segment.front = args.front;
     options.fit.ea = args.ea;

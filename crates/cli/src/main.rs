@@ -20,6 +20,7 @@ mod exit;
 mod input_file;
 mod output;
 mod panels;
+mod plausible;
 mod progress;
 
 use clap::{Parser, Subcommand};

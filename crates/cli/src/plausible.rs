@@ -62,10 +62,11 @@ fn longest_side(b: &Aabb) -> Real {
 /// size (two people in one file); small pieces (eyes, stray points) and a
 /// piece inside another (a mouth, an inner layer) do not count.
 pub fn check_one_body(name: &str, geometry: &Geometry, units: Units) -> Result<()> {
-    let mut boxes = match geometry {
+    let boxes = match geometry {
         Geometry::Mesh(m) => component_boxes(&m.positions, &mesh_components(m)),
         Geometry::Points(c) => cloud_component_boxes(&c.positions),
     };
+    let mut boxes = clusters(boxes);
     boxes.sort_by(|a, b| longest_side(b).total_cmp(&longest_side(a)));
     let Some(first) = boxes.first().copied() else {
         return Ok(());
@@ -96,6 +97,44 @@ pub fn check_one_body(name: &str, geometry: &Geometry, units: Units) -> Result<(
         bodies.len(),
         sizes.join(", ")
     )))
+}
+
+/// The pieces of one body overlap (a tessellated model's parts are separate
+/// meshes; a scan's arm may be cut off at the shoulder): pieces larger than
+/// 2 % of the largest whose boxes touch are merged, and each group's box is
+/// returned. Two people side by side have boxes apart.
+fn clusters(boxes: Vec<Aabb>) -> Vec<Aabb> {
+    let big = boxes.iter().map(longest_side).fold(0.0, Real::max);
+    let mut boxes: Vec<Aabb> = boxes
+        .into_iter()
+        .filter(|b| longest_side(b) >= 0.02 * big)
+        .collect();
+    if boxes.len() > 1000 {
+        // A soup of large unconnected faces: no pieces to tell apart.
+        return Vec::new();
+    }
+    let margin = 0.01 * big;
+    let touch = |a: &Aabb, b: &Aabb| {
+        (0..3).all(|k| a.min[k] - margin <= b.max[k] && b.min[k] - margin <= a.max[k])
+    };
+    // Merge until no two boxes touch (few boxes: quadratic is fine).
+    loop {
+        let mut merged = false;
+        'outer: for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                if touch(&boxes[i], &boxes[j]) {
+                    let b = boxes.swap_remove(j);
+                    boxes[i].min = boxes[i].min.min(b.min);
+                    boxes[i].max = boxes[i].max.max(b.max);
+                    merged = true;
+                    break 'outer;
+                }
+            }
+        }
+        if !merged {
+            return boxes;
+        }
+    }
 }
 
 /// Whether at least half of `b`'s box lies inside `outer`'s.
@@ -206,6 +245,23 @@ mod tests {
         let huge: Vec<Point3> = column(0.0, 1.73e20);
         let e = check_extent("b.obj", &huge, Units::Metres, "--units").unwrap_err();
         assert!(e.to_string().contains("no unit"), "{e}");
+    }
+
+    #[test]
+    fn overlapping_pieces_are_one_body() {
+        // A torso with two separate legs overlapping its box, as a
+        // tessellated model's parts are.
+        let mut pieces = column(0.0, 1.7);
+        let leg: Vec<Point3> = column(0.05, 0.9)
+            .into_iter()
+            .map(|p| p + Vec3::new(0.0, -0.1, 0.0))
+            .collect();
+        pieces.extend(leg);
+        let cloud = Geometry::Points(PointCloud {
+            positions: pieces,
+            normals: None,
+        });
+        check_one_body("one.ply", &cloud, Units::Metres).unwrap();
     }
 
     #[test]

@@ -606,3 +606,50 @@ fn a_killed_writer_leaves_the_old_file_or_none() {
         }
     }
 }
+
+/// Parts of a body are no body: a model's parts are dropped, the rest
+/// tessellated (outer skin) and given back to `reconstruct`.
+#[test]
+fn a_single_limb_or_a_torso_without_head_is_refused() {
+    let d = scratch("parts");
+    case(&d, &["reconstruct", "-o", "m.json"], 0, "");
+    let text = std::fs::read_to_string(d.join("m.json")).unwrap();
+    let model: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let keep = |names: &[&str], file: &str| {
+        let mut m = model.clone();
+        let parts: Vec<serde_json::Value> = m["parts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| names.contains(&p["name"].as_str().unwrap()))
+            .cloned()
+            .collect();
+        let transitions: Vec<serde_json::Value> = m["transitions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|t| {
+                names.contains(&t["from"].as_str().unwrap())
+                    && names.contains(&t["to"].as_str().unwrap())
+            })
+            .cloned()
+            .collect();
+        m["parts"] = serde_json::Value::Array(parts);
+        m["transitions"] = serde_json::Value::Array(transitions);
+        if names.len() == 1 {
+            m["parts"][0]["caps"]["start"] = serde_json::json!({ "kind": "flat" });
+        }
+        write(&d, file, &m.to_string());
+        let obj = file.replace(".json", ".obj");
+        case(&d, &["mesh", file, "-o", &obj, "--skin", "outer"], 0, "");
+        obj
+    };
+    let arm = keep(&["left_arm"], "arm.json");
+    case(&d, &["reconstruct", &arm], 2, "not a standing body");
+    case(&d, &["measure", &arm], 2, "not a standing body");
+    let headless = keep(
+        &["torso", "left_arm", "right_arm", "left_leg", "right_leg"],
+        "headless.json",
+    );
+    case(&d, &["reconstruct", &headless], 2, "not a standing body");
+}

@@ -26,10 +26,9 @@ pub fn check_body_input(name: &str, geometry: &Geometry, units: Units, flag: &st
 /// Exit 2 unless the input's extent lies in [`HUMAN_EXTENT_M`] in `units`;
 /// the message names the extent and the units that would fit.
 pub fn check_extent(name: &str, positions: &[Point3], units: Units, flag: &str) -> Result<()> {
-    let Some(b) = Aabb::from_points(positions) else {
+    let Some(extent) = robust_extent(positions) else {
         return Ok(());
     };
-    let extent = longest_side(&b);
     let (lo, hi) = HUMAN_EXTENT_M;
     let metres = |u: Units| extent * u.to_mm() / 1000.0;
     if (lo..=hi).contains(&metres(units)) {
@@ -46,11 +45,33 @@ pub fn check_extent(name: &str, positions: &[Point3], units: Units, flag: &str) 
         fits.join("; ")
     };
     Err(bad(format!(
-        "{name}: the input measures {extent:.4e} along its longest side, which in {flag} {} is \
+        "{name}: the input measures {extent:.4e} along its longest side (1st to 99th \
+         percentile of its points), which in {flag} {} is \
          {:.4e} m: not a human body's height ({lo}-{hi} m); {hint}",
         units.symbol(),
         metres(units)
     )))
+}
+
+/// The longest side of the box from the 1st to the 99th percentile of the
+/// points along each axis: stray points of a scan (1 % of body_011's, 0.6 m
+/// beyond the body) do not count.
+fn robust_extent(positions: &[Point3]) -> Option<Real> {
+    if positions.is_empty() {
+        return None;
+    }
+    let n = positions.len();
+    let (lo, hi) = (n / 100, n - 1 - n / 100);
+    let mut side: Real = 0.0;
+    let mut v: Vec<Real> = Vec::with_capacity(n);
+    for k in 0..3 {
+        v.clear();
+        v.extend(positions.iter().map(|p| p[k]));
+        let low = *v.select_nth_unstable_by(lo, Real::total_cmp).1;
+        let high = *v.select_nth_unstable_by(hi, Real::total_cmp).1;
+        side = side.max(high - low);
+    }
+    Some(side)
 }
 
 fn longest_side(b: &Aabb) -> Real {
@@ -240,7 +261,7 @@ mod tests {
         let mm: Vec<Point3> = column(0.0, 1730.0);
         let e = check_extent("b.obj", &mm, Units::Metres, "--units").unwrap_err();
         let e = e.to_string();
-        assert!(e.contains("with --units mm it is 1.73 m tall"), "{e}");
+        assert!(e.contains("with --units mm it is 1.70 m tall"), "{e}");
         check_extent("b.obj", &mm, Units::Millimetres, "--units").unwrap();
         let huge: Vec<Point3> = column(0.0, 1.73e20);
         let e = check_extent("b.obj", &huge, Units::Metres, "--units").unwrap_err();

@@ -5,24 +5,17 @@
 
 use trigbody_core::Real;
 
-/// A whole number in `lo..=hi` (a `clap` value parser).
-pub fn count_in(
-    lo: usize,
-    hi: usize,
-) -> impl Fn(&str) -> Result<usize, String> + Clone + Send + Sync + 'static {
-    move |s: &str| match s.trim().parse::<usize>() {
-        Ok(n) if (lo..=hi).contains(&n) => Ok(n),
-        _ => Err(format!("must be a whole number in {lo}..={hi}")),
-    }
-}
-
-/// A `u32` in `lo..=hi` (pixel sizes).
-pub fn pixels_in(
-    lo: u32,
-    hi: u32,
-) -> impl Fn(&str) -> Result<u32, String> + Clone + Send + Sync + 'static {
-    move |s: &str| match s.trim().parse::<u32>() {
-        Ok(n) if (lo..=hi).contains(&n) => Ok(n),
+/// A whole number in `lo..=hi` (a `clap` value parser), of any integer
+/// type (counts, pixel sizes).
+pub fn count_in<T>(
+    lo: T,
+    hi: T,
+) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static
+where
+    T: std::str::FromStr + PartialOrd + std::fmt::Display + Copy + Send + Sync + 'static,
+{
+    move |s: &str| match s.trim().parse::<T>() {
+        Ok(n) if lo <= n && n <= hi => Ok(n),
         _ => Err(format!("must be a whole number in {lo}..={hi}")),
     }
 }
@@ -72,7 +65,7 @@ mod tests {
         assert_eq!(non_negative("0"), Ok(0.0));
         assert!(non_negative("-5").is_err());
         assert_eq!(
-            pixels_in(64, 4096)("0").unwrap_err(),
+            count_in(64u32, 4096)("0").unwrap_err(),
             "must be a whole number in 64..=4096"
         );
     }

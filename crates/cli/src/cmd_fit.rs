@@ -29,7 +29,7 @@ pub struct FitFlags {
     pub em: Real,
     /// Highest order `auto` may choose.
     #[arg(long, default_value_t = trigbody_core::order::DEFAULT_MAX_ORDER,
-          value_parser = crate::bounds::count_in(1, MAX_ORDER))]
+          value_parser = crate::bounds::count_in(1usize, MAX_ORDER))]
     pub max_order: usize,
     /// Parameter values of the points: chord length or polar angle.
     #[arg(long, value_enum, default_value_t = ParamFlag::Chord)]

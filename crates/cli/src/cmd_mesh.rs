@@ -20,15 +20,15 @@ pub struct MeshArgs {
     pub output: PathBuf,
     /// Samples around every curve.
     #[arg(long, default_value_t = TessellationOptions::default().around,
-          value_parser = crate::bounds::count_in(3, 4096))]
+          value_parser = crate::bounds::count_in(3usize, 4096))]
     pub around: usize,
     /// Intervals along each patch.
     #[arg(long, default_value_t = TessellationOptions::default().along,
-          value_parser = crate::bounds::count_in(1, 1024))]
+          value_parser = crate::bounds::count_in(1usize, 1024))]
     pub along: usize,
     /// Rings on each cap.
     #[arg(long, default_value_t = TessellationOptions::default().cap_rings,
-          value_parser = crate::bounds::count_in(1, 1024))]
+          value_parser = crate::bounds::count_in(1usize, 1024))]
     pub cap_rings: usize,
     /// Target edge length in model units (overrides --around, --along, --cap-rings).
     #[arg(long, value_parser = crate::bounds::positive)]

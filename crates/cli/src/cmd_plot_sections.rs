@@ -53,11 +53,11 @@ pub struct PlotSectionsArgs {
     #[arg(long, default_value_t = 9)]
     pub levels: usize,
     /// Panels per row.
-    #[arg(long, default_value_t = 3, value_parser = crate::bounds::count_in(1, 12))]
+    #[arg(long, default_value_t = 3, value_parser = crate::bounds::count_in(1usize, 12))]
     pub columns: usize,
     /// Size of one panel in pixels (below about 400 the legend covers the
     /// top of the loops).
-    #[arg(long, default_value_t = 420, value_parser = crate::bounds::pixels_in(64, 4096))]
+    #[arg(long, default_value_t = 420, value_parser = crate::bounds::count_in(64u32, 4096))]
     pub panel_size: u32,
     /// The file's up axis (x, -x, y, -y, z, -z, or keep).
     #[arg(long, default_value = "keep")]

@@ -27,7 +27,7 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Width and height of each view in pixels.
-    #[arg(long, default_value_t = 1024, value_parser = crate::bounds::pixels_in(16, 8192))]
+    #[arg(long, default_value_t = 1024, value_parser = crate::bounds::count_in(16u32, 8192))]
     pub size: u32,
     /// Views, left to right: front, side, back, left, right, or an azimuth
     /// in degrees (e.g. 45), separated by commas.

@@ -21,13 +21,13 @@ pub struct ScanArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Number of points (at most 20 million: 1 GB of points and normals).
-    #[arg(long, default_value_t = 200_000, value_parser = crate::bounds::count_in(1, 20_000_000))]
+    #[arg(long, default_value_t = 200_000, value_parser = crate::bounds::count_in(1usize, 20_000_000))]
     pub points: usize,
     /// Cameras per ring.
-    #[arg(long, default_value_t = 8, value_parser = crate::bounds::count_in(1, 360))]
+    #[arg(long, default_value_t = 8, value_parser = crate::bounds::count_in(1usize, 360))]
     pub azimuths: usize,
     /// Rings of cameras (heights).
-    #[arg(long, default_value_t = 3, value_parser = crate::bounds::count_in(1, 100))]
+    #[arg(long, default_value_t = 3, value_parser = crate::bounds::count_in(1usize, 100))]
     pub heights: usize,
     /// Noise along the normal, as a fraction of the body's height.
     #[arg(long, default_value_t = 1.0 / 1700.0, value_parser = crate::bounds::real_in(0.0, 0.1))]

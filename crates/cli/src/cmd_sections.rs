@@ -76,7 +76,7 @@ pub struct SectionsArgs {
     #[arg(long)]
     pub force: bool,
     /// How many levels (spread evenly over those with loops) --plot draws in detail.
-    #[arg(long, default_value_t = 8, value_parser = crate::bounds::count_in(1, 100))]
+    #[arg(long, default_value_t = 8, value_parser = crate::bounds::count_in(1usize, 100))]
     pub plot_levels: usize,
 }
 

@@ -61,6 +61,18 @@ pub use geometry::{Geometry, ReadNotes};
 /// The most corners a face may have (OBJ, PLY, ASCII STL); a larger one is
 /// a [`FormatErrorKind::FaceTooLarge`] naming its line or element.
 pub const MAX_FACE_CORNERS: usize = 65_536;
+
+/// A face of `n` corners is refused when larger than [`MAX_FACE_CORNERS`]
+/// (checked before its indices are read, where the format gives `n` first).
+pub(crate) fn check_face_size(n: u64) -> std::result::Result<(), FormatErrorKind> {
+    if n > MAX_FACE_CORNERS as u64 {
+        return Err(FormatErrorKind::FaceTooLarge {
+            count: n,
+            max: MAX_FACE_CORNERS,
+        });
+    }
+    Ok(())
+}
 pub use options::{ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
 
 use std::fs::File;

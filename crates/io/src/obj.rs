@@ -212,15 +212,7 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
                         ));
                     }
                     polygon.push((v, n));
-                    if polygon.len() > crate::MAX_FACE_CORNERS {
-                        return Err(err(
-                            line,
-                            FormatErrorKind::FaceTooLarge {
-                                count: polygon.len() as u64,
-                                max: crate::MAX_FACE_CORNERS,
-                            },
-                        ));
-                    }
+                    crate::check_face_size(polygon.len() as u64).map_err(|k| err(line, k))?;
                 }
                 if polygon.len() < 3 {
                     return Err(err(

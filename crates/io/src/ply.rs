@@ -372,18 +372,6 @@ fn assign_slots(elements: &mut [Element]) -> Result<bool> {
     Ok(normals)
 }
 
-/// A face list longer than [`crate::MAX_FACE_CORNERS`] is refused before
-/// its indices are read.
-fn check_face_size(n: u64) -> std::result::Result<(), FormatErrorKind> {
-    if n > crate::MAX_FACE_CORNERS as u64 {
-        return Err(FormatErrorKind::FaceTooLarge {
-            count: n,
-            max: crate::MAX_FACE_CORNERS,
-        });
-    }
-    Ok(())
-}
-
 /// Everything the body readers fill.
 #[derive(Debug, Default)]
 struct Sink {
@@ -657,7 +645,7 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
                         };
                         if slot == Slot::FaceIndices {
                             sink.polygon.clear();
-                            check_face_size(n).map_err(&at)?;
+                            crate::check_face_size(n).map_err(&at)?;
                             for _ in 0..n {
                                 let v = match cur.int::<BIG>(item).ok_or_else(|| eof(p))? {
                                     Ok(v) => v,
@@ -908,7 +896,7 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
                         }
                         if slot == Slot::FaceIndices {
                             sink.polygon.clear();
-                            check_face_size(n as u64).map_err(|k| at(k, start_line))?;
+                            crate::check_face_size(n as u64).map_err(|k| at(k, start_line))?;
                         }
                         // Bounded by the input: each item needs a token.
                         for _ in 0..n as u64 {

@@ -7,7 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")"
 secs=${1:-60}
 scratch=${FUZZ_SCRATCH:-/tmp/trigbody-fuzz-corpus}
-for t in obj ply stl xyz tbm; do
+
+for t in obj ply stl xyz tbm model; do
   mkdir -p "$scratch/$t"
   dict=()
   [ -f "dict/$t.dict" ] && dict=(-dict="dict/$t.dict")

@@ -61,22 +61,35 @@ pub struct LoadedBody {
     pub input: Option<Geometry>,
 }
 
-/// A model file as read, or an input reconstructed with default options.
-pub fn load_body(path: &Path, read: &ReadOptions) -> Result<LoadedBody> {
+/// The unit an input is in, and the option that sets it (for messages).
+#[derive(Clone, Copy, Debug)]
+pub struct InputUnits {
+    pub units: Units,
+    pub flag: &'static str,
+}
+
+/// A model file as read, or an input reconstructed with default options
+/// (after [`crate::plausible::check_body_input`]).
+pub fn load_body(path: &Path, read: &ReadOptions, units: InputUnits) -> Result<LoadedBody> {
     if is_model_file(path) {
         return Ok(LoadedBody {
             body: body_of_model_file(path)?,
             input: None,
         });
     }
-    let geometry = trigbody_io::read_geometry(path, read).map_err(bad)?;
+    let geometry = crate::input_file::read_geometry(path, read)?;
+    let name = path.display().to_string();
+    crate::plausible::check_body_input(&name, &geometry, units.units, units.flag)?;
     let g = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
     };
     let mut bar = crate::progress::ProgressBar::new("reconstructing");
-    let result =
-        reconstruct_with_progress(g, &ReconstructOptions::default(), &mut |p| bar.update(p));
+    let options = ReconstructOptions {
+        units: units.units,
+        ..ReconstructOptions::default()
+    };
+    let result = reconstruct_with_progress(g, &options, &mut |p| bar.update(p));
     bar.finish();
     let (body, _) =
         result.map_err(|e| bad(format!("{}: reconstructing the body: {e}", path.display())))?;
@@ -92,7 +105,7 @@ pub fn load_body(path: &Path, read: &ReadOptions) -> Result<LoadedBody> {
 pub fn drawable_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
     if !is_model_file(path) {
         // The reader's errors name the file, line or element, and the value.
-        return trigbody_io::read_mesh(path, read).map_err(bad);
+        return crate::input_file::read_mesh(path, read);
     }
     let file = path.display();
     let model = read_model_file(path)?;
@@ -144,6 +157,7 @@ pub fn measurements(
     read: &ReadOptions,
     direct: bool,
     compare: Option<&Path>,
+    units: InputUnits,
 ) -> Result<BodyMeasurements> {
     let file = path.display();
     if direct && compare.is_some() {
@@ -158,7 +172,9 @@ pub fn measurements(
                  its curves (leave out --direct)"
             )));
         }
-        let mesh = match trigbody_io::read_geometry(path, read).map_err(bad)? {
+        let geometry = crate::input_file::read_geometry(path, read)?;
+        crate::plausible::check_body_input(&file.to_string(), &geometry, units.units, units.flag)?;
+        let mesh = match geometry {
             Geometry::Mesh(mesh) => mesh,
             Geometry::Points(_) => {
                 return Err(bad(format!(
@@ -175,7 +191,7 @@ pub fn measurements(
             units: None,
         });
     }
-    let loaded = load_body(path, read)?;
+    let loaded = load_body(path, read, units)?;
     let mut m = measure_body(&loaded.body, &ModelMeasureOptions::default())
         .map_err(|e| bad(format!("{file}: {e}")))?;
     let measured = match &loaded.input {
@@ -184,7 +200,7 @@ pub fn measurements(
     };
     match (compare, &loaded.input) {
         (Some(other), _) => {
-            let mesh = trigbody_io::read_mesh(other, read).map_err(bad)?;
+            let mesh = crate::input_file::read_mesh(other, read)?;
             compare_with_mesh(&mut m, &mesh);
         }
         (None, Some(Geometry::Mesh(mesh))) => compare_with_mesh(&mut m, mesh),

@@ -22,13 +22,14 @@ pub struct FitFlags {
     #[arg(long, default_value = "auto", value_parser = parse_order)]
     pub order: OrderChoice,
     /// Average relative error tolerance E_a (paper Eq. 12).
-    #[arg(long, default_value_t = 0.01)]
+    #[arg(long, default_value_t = 0.01, value_parser = crate::bounds::positive)]
     pub ea: Real,
     /// Maximum relative error tolerance E_M (paper Eq. 12).
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, value_parser = crate::bounds::positive)]
     pub em: Real,
     /// Highest order `auto` may choose.
-    #[arg(long, default_value_t = trigbody_core::internals::curve::order::DEFAULT_MAX_ORDER)]
+    #[arg(long, default_value_t = trigbody_core::internals::curve::order::DEFAULT_MAX_ORDER,
+          value_parser = crate::bounds::count_in(1usize, MAX_ORDER))]
     pub max_order: usize,
     /// Parameter values of the points: chord length or polar angle.
     #[arg(long, value_enum, default_value_t = ParamFlag::Chord)]
@@ -37,7 +38,7 @@ pub struct FitFlags {
     #[arg(long, value_enum, default_value_t = WeightFlag::Arc)]
     pub weighting: WeightFlag,
     /// Smoothness penalty on high harmonics (0 = plain least squares).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::bounds::non_negative, allow_hyphen_values = true)]
     pub smoothing: Real,
 }
 
@@ -53,16 +54,33 @@ pub enum WeightFlag {
     Arc,
 }
 
+/// The highest order `--order` and `--max-order` accept (a loop of order
+/// J needs 2J + 1 points; no body section has 20 000).
+pub const MAX_ORDER: usize = 10_000;
+
 fn parse_order(s: &str) -> Result<OrderChoice, String> {
     if s.eq_ignore_ascii_case("auto") {
         return Ok(OrderChoice::Auto);
     }
     match s.parse::<usize>() {
         Ok(0) => Err("the order must be at least 1".into()),
+        Ok(j) if j > MAX_ORDER => Err(format!("the order must be at most {MAX_ORDER}")),
         Ok(j) => Ok(OrderChoice::Fixed(j)),
         Err(_) => Err(format!(
             "'{s}' is neither a positive whole number nor 'auto'"
         )),
+    }
+}
+
+/// A direction x,y,z: three finite numbers, not all zero.
+pub fn parse_nonzero_vec3(s: &str) -> Result<Vec3, String> {
+    let v = parse_vec3(s)?;
+    if v.norm() > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!(
+            "'{s}' is the zero vector, which gives no direction"
+        ))
     }
 }
 
@@ -109,10 +127,10 @@ pub struct FitArgs {
     #[command(flatten)]
     pub fit: FitFlags,
     /// The reference direction x,y,z: v = 0 where the ray from the centroid along it crosses the loop.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_nonzero_vec3, allow_hyphen_values = true)]
     pub reference: Option<Vec3>,
     /// The direction the loop's normal should point along, x,y,z (3D loops).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_nonzero_vec3, allow_hyphen_values = true)]
     pub normal: Option<Vec3>,
     /// Fit a 3D loop that is far from planar anyway (projected, with a warning).
     #[arg(long)]
@@ -189,7 +207,8 @@ pub fn fit_points(
 
 /// The image format of an output path, or a bad-input error naming it.
 pub fn image_format(path: &Path) -> Result<ImageFormat> {
-    ImageFormat::from_path(path).ok_or_else(|| {
+    let ext = crate::output::output_extension(path, "svg");
+    ImageFormat::from_path(&Path::new("plot").with_extension(ext)).ok_or_else(|| {
         bad(format!(
             "{}: unknown picture format; use a .svg or .png file name",
             path.display()

@@ -10,7 +10,7 @@ use anyhow::Result;
 use clap::Args;
 use serde_json::{json, Value};
 use std::path::PathBuf;
-use trigbody_core::{Measurement, Measurements};
+use trigbody_core::{Measurement, Measurements, Units};
 use trigbody_io::{ReadOptions, UpAxis};
 
 /// Flags of `trigbody measure`.
@@ -49,7 +49,11 @@ pub fn run(args: MeasureArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let b = measurements(&args.body, &read, args.direct, args.input.as_deref())?;
+    let units = crate::body_input::InputUnits {
+        units: Units::from_symbol(&args.unit).unwrap_or(Units::Metres),
+        flag: "--unit",
+    };
+    let b = measurements(&args.body, &read, args.direct, args.input.as_deref(), units)?;
     let unit = b
         .units
         .map_or(args.unit.clone(), |u| u.symbol().to_string());

@@ -1,14 +1,14 @@
 //! `trigbody mesh MODEL.json|MODEL.tbm -o OUT.glb|obj|ply|stl`: tessellate a model.
 
 use crate::exit::bad;
-use crate::output::{refuse_input, write_file};
+use crate::output::{output_extension, refuse_input, write_file};
 use anyhow::Result;
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use trigbody_core::{Real, TessellationOptions};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, skin_pieces};
-use trigbody_io::{write_mesh, Format, WriteOptions};
+use trigbody_io::{write_mesh_as, Format, WriteOptions};
 
 /// Arguments of `trigbody mesh`.
 #[derive(Debug, Args)]
@@ -20,16 +20,19 @@ pub struct MeshArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Samples around every curve.
-    #[arg(long, default_value_t = TessellationOptions::default().around)]
+    #[arg(long, default_value_t = TessellationOptions::default().around,
+          value_parser = crate::bounds::count_in(3usize, 4096))]
     pub around: usize,
     /// Intervals along each patch.
-    #[arg(long, default_value_t = TessellationOptions::default().along)]
+    #[arg(long, default_value_t = TessellationOptions::default().along,
+          value_parser = crate::bounds::count_in(1usize, 1024))]
     pub along: usize,
     /// Rings on each cap.
-    #[arg(long, default_value_t = TessellationOptions::default().cap_rings)]
+    #[arg(long, default_value_t = TessellationOptions::default().cap_rings,
+          value_parser = crate::bounds::count_in(1usize, 1024))]
     pub cap_rings: usize,
     /// Target edge length in model units (overrides --around, --along, --cap-rings).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::bounds::positive)]
     pub edge: Option<Real>,
     /// Which surface to write: every piece whole, or only the model's
     /// outer skin (each piece's triangles inside another piece left out).
@@ -60,20 +63,19 @@ impl From<SkinFlag> for trigbody_io::model::Skin {
 
 pub fn run(args: MeshArgs) -> Result<()> {
     let out_name = args.output.display().to_string();
-    let ext = args
-        .output
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase())
-        .unwrap_or_default();
+    let ext = output_extension(&args.output, "ply");
     let glb = ext == "glb";
-    let format = Format::from_path(&args.output);
+    let format = Format::from_path(&Path::new("mesh").with_extension(&ext));
     if !glb && !matches!(format, Some(Format::Obj | Format::Ply | Format::Stl)) {
         return Err(bad(format!(
             "{out_name}: unknown mesh format; use a .glb, .obj, .ply or .stl file name"
         )));
     }
+    let file = args.model.display().to_string();
     let model = crate::body_input::read_model_file(&args.model)?;
+    if let Some(edge) = args.edge {
+        check_edge(&model, edge, &file)?;
+    }
     let options = TessellationOptions {
         around: args.around,
         along: args.along,
@@ -97,7 +99,8 @@ pub fn run(args: MeshArgs) -> Result<()> {
             overwrite: args.force,
             ..WriteOptions::default()
         };
-        write_mesh(&args.output, &merge_pieces(&pieces), &options)
+        let format = format.unwrap_or(Format::Ply);
+        write_mesh_as(&args.output, &merge_pieces(&pieces), format, &options)
             .map_err(|e| bad(e.to_string()))?;
     }
     let (v, t) = pieces.iter().fold((0, 0), |(v, t), (_, m)| {
@@ -107,5 +110,29 @@ pub fn run(args: MeshArgs) -> Result<()> {
         "{out_name}: {} part(s), {v} vertices, {t} triangles",
         model.parts.len()
     );
+    Ok(())
+}
+
+/// The model's size in edges of `--edge` must stay below 4000 (about 16
+/// million vertices per part at most): a tiny edge would tessellate for
+/// minutes into gigabytes. The size is the diagonal of the model's
+/// default (coarse) tessellation.
+fn check_edge(
+    model: &trigbody_io::model::Model,
+    edge: trigbody_core::Real,
+    file: &str,
+) -> Result<()> {
+    let coarse = model
+        .tessellate_pieces(&TessellationOptions::default())
+        .map_err(|e| bad(format!("{file}: {e}")))?;
+    let size = merge_pieces(&coarse)
+        .bounds()
+        .map_or(0.0, |b| (b.max - b.min).norm());
+    let smallest = size / 4000.0;
+    if edge < smallest {
+        return Err(bad(format!(
+            "--edge {edge}: must be at least {smallest:.3e} for {file}, whose size is {size:.4} (1/4000 of it)"
+        )));
+    }
     Ok(())
 }

@@ -53,11 +53,11 @@ pub struct PlotSectionsArgs {
     #[arg(long, default_value_t = 9)]
     pub levels: usize,
     /// Panels per row.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = crate::bounds::count_in(1usize, 12))]
     pub columns: usize,
     /// Size of one panel in pixels (below about 400 the legend covers the
     /// top of the loops).
-    #[arg(long, default_value_t = 420)]
+    #[arg(long, default_value_t = 420, value_parser = crate::bounds::count_in(64u32, 4096))]
     pub panel_size: u32,
     /// The file's up axis (x, -x, y, -y, z, -z, or keep).
     #[arg(long, default_value = "keep")]
@@ -83,7 +83,11 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let b = measurements(&args.body, &read, args.direct, args.input.as_deref())?;
+    let units = crate::body_input::InputUnits {
+        units: trigbody_core::Units::Metres,
+        flag: "`trigbody reconstruct -o MODEL.json --units`",
+    };
+    let b = measurements(&args.body, &read, args.direct, args.input.as_deref(), units)?;
     let m = &b.measurements;
     // Millimetres per unit: a model file's own unit, else metres.
     let mm = b.units.map_or(1e3, |u| u.to_mm());

@@ -4,7 +4,7 @@
 
 use crate::cmd_fit::parse_vec3;
 use crate::exit::{bad, print};
-use crate::output::{refuse_input, write_file};
+use crate::output::{output_extension, refuse_input, refuse_repeated_outputs, write_file};
 use crate::progress::ProgressBar;
 use anyhow::Result;
 use clap::{Args, ValueEnum};
@@ -17,9 +17,7 @@ use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, skin_pieces, write_model};
 use trigbody_io::tbm::{encode_tbm, TbmOptions};
-use trigbody_io::{
-    read_bytes, read_geometry, write_mesh, Format, Geometry, ReadOptions, WriteOptions,
-};
+use trigbody_io::{read_bytes, write_mesh_as, Format, Geometry, ReadOptions, WriteOptions};
 
 /// The built-in body (CC0 MakeHuman average young male, metres; see
 /// `data/bodies/README.md`).
@@ -86,13 +84,14 @@ pub struct BodyFlags {
     #[arg(long, value_enum, default_value_t = UnitsFlag::M)]
     pub units: UnitsFlag,
     /// Section spacing along each part, as a fraction of the body's height.
-    #[arg(long, default_value_t = ReconstructOptions::default().spacing)]
+    #[arg(long, default_value_t = ReconstructOptions::default().spacing,
+          value_parser = crate::bounds::real_in(0.002, 0.2))]
     pub spacing: Real,
     /// Average relative error tolerance E_a of every section.
-    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EA)]
+    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EA, value_parser = crate::bounds::positive)]
     pub ea: Real,
     /// Maximum relative error tolerance E_M of every section.
-    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EM)]
+    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EM, value_parser = crate::bounds::positive)]
     pub em: Real,
 }
 
@@ -214,6 +213,11 @@ fn search_lines(out: &RateOutcome, goal: Goal) -> String {
 
 pub fn run(args: ReconstructArgs) -> Result<()> {
     let started = std::time::Instant::now();
+    refuse_repeated_outputs(&[
+        ("-o", args.output.as_deref()),
+        ("--report", args.report.as_deref()),
+        ("--mesh", args.mesh.as_deref()),
+    ])?;
     let mut bar = ProgressBar::new("reconstructing");
     bar.update(Progress {
         stage: "reading the input",
@@ -223,7 +227,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
     let (name, geometry) = match &args.input {
         Some(path) => (
             path.display().to_string(),
-            read_geometry(path, &ReadOptions::default()).map_err(bad)?,
+            crate::input_file::read_geometry(path, &ReadOptions::default())?,
         ),
         None => (
             "built-in body (mh_male.obj)".to_string(),
@@ -238,6 +242,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         }
     }
     let options = args.body.options();
+    crate::plausible::check_body_input(&name, &geometry, options.units, "--units")?;
     let body = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
@@ -358,28 +363,22 @@ pub fn write_outputs(
             .tessellate_pieces(&tess)
             .map_err(|e| bad(format!("{name}: {e}")))?;
         let pieces = skin_pieces(&file_model, pieces, outputs.skin.into());
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase())
-            .unwrap_or_default();
+        let ext = output_extension(path, "glb");
+        let format = Format::from_path(&std::path::Path::new("mesh").with_extension(&ext));
         if ext == "glb" {
             let named: Vec<NamedMesh> = pieces
                 .iter()
                 .map(|(name, mesh)| NamedMesh { name, mesh })
                 .collect();
             write_file(path, &glb_bytes(&named)?, inputs, outputs.force)?;
-        } else if matches!(
-            Format::from_path(path),
-            Some(Format::Obj | Format::Ply | Format::Stl)
-        ) {
+        } else if let Some(format @ (Format::Obj | Format::Ply | Format::Stl)) = format {
             let all = merge_pieces(&pieces);
             let wo = WriteOptions {
                 overwrite: outputs.force,
                 ..WriteOptions::default()
             };
             refuse_input(path, inputs)?;
-            write_mesh(path, &all, &wo).map_err(bad)?;
+            write_mesh_as(path, &all, format, &wo).map_err(bad)?;
         } else {
             return Err(bad(format!(
                 "{}: unknown mesh format; use a .glb, .obj, .ply or .stl file name",

@@ -27,7 +27,7 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     /// Width and height of each view in pixels.
-    #[arg(long, default_value_t = 1024)]
+    #[arg(long, default_value_t = 1024, value_parser = crate::bounds::count_in(16u32, 8192))]
     pub size: u32,
     /// Views, left to right: front, side, back, left, right, or an azimuth
     /// in degrees (e.g. 45), separated by commas.
@@ -59,7 +59,7 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
-    if !has_extension(&args.output, "png") {
+    if crate::output::output_extension(&args.output, "png") != "png" {
         return Err(bad(format!(
             "{}: the output must be a .png file",
             args.output.display()
@@ -86,7 +86,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
                     args.mm_per_unit
                 )));
             }
-            let target = trigbody_io::read_geometry(reference, &read).map_err(bad)?;
+            let target = crate::input_file::read_geometry(reference, &read)?;
             let mm: Vec<f64> = distances_mm(&mesh, &target, args.mm_per_unit);
             let top = match args.max_mm {
                 Some(t) if t.is_finite() && t > 0.0 => t,
@@ -120,12 +120,6 @@ pub fn run(args: RenderArgs) -> Result<()> {
 /// (`.json`) tessellated.
 pub fn load_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
     crate::body_input::drawable_mesh(path, read)
-}
-
-fn has_extension(path: &Path, ext: &str) -> bool {
-    path.extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case(ext))
 }
 
 /// Rendering errors caused by the input or the flags are bad input (exit

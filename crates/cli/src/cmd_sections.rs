@@ -1,7 +1,7 @@
 //! `trigbody sections INPUT`: cut a mesh (plane sections) or a scan (slab
 //! sections) with parallel planes and fit every loop.
 
-use crate::cmd_fit::{image_format, parse_vec3, FitFlags};
+use crate::cmd_fit::{image_format, parse_nonzero_vec3, FitFlags};
 use crate::exit::{bad, print};
 use crate::output::write_file;
 use crate::panels::{across, loops_panel, LoopDrawing};
@@ -14,7 +14,7 @@ use trigbody_core::internals::section::cloud::{scan_fit_options, CloudSlicer, Sc
 use trigbody_core::internals::section::mesh::{MeshSlicer, SectionOptions};
 use trigbody_core::{FitOptions, LoopFit, Point3, Real, Vec2, Vec3};
 use trigbody_io::fit_json::loop_fit_json;
-use trigbody_io::{read_geometry, Geometry, ReadOptions};
+use trigbody_io::{Geometry, ReadOptions};
 use trigbody_render::{plot_panels, Curve2, Panel, PlotOptions};
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -58,10 +58,10 @@ pub struct SectionsArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub to: Option<Real>,
     /// Half-thickness of the slab for scans (default: the point spacing).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::bounds::positive)]
     pub half_thickness: Option<Real>,
     /// Front direction x,y,z: v = 0 of every fitted curve lies along it.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_nonzero_vec3, allow_hyphen_values = true)]
     pub reference: Option<Vec3>,
     #[command(flatten)]
     pub fit: FitFlags,
@@ -76,7 +76,7 @@ pub struct SectionsArgs {
     #[arg(long)]
     pub force: bool,
     /// How many levels (spread evenly over those with loops) --plot draws in detail.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = crate::bounds::count_in(1usize, 100))]
     pub plot_levels: usize,
 }
 
@@ -93,8 +93,21 @@ struct CutLoop {
 
 pub fn run(args: SectionsArgs) -> Result<()> {
     let name = args.input.display().to_string();
-    let geometry = read_geometry(&args.input, &ReadOptions::default()).map_err(bad)?;
+    crate::output::refuse_repeated_outputs(&[
+        ("--json", args.json.as_deref()),
+        ("--plot", args.plot.as_deref()),
+    ])?;
+    let geometry = crate::input_file::read_geometry(&args.input, &ReadOptions::default())?;
     let axis = args.axis.vector();
+    if let Some(r) = args.reference {
+        if r.cross(axis).norm() <= 1e-9 * r.norm() {
+            return Err(bad(format!(
+                "--reference {:?} is parallel to the cutting axis {:?}: it gives no direction in the planes",
+                r.to_array(),
+                args.axis
+            )));
+        }
+    }
     let base = FitOptions {
         reference: args.reference,
         normal: Some(axis),
@@ -165,6 +178,8 @@ pub fn run(args: SectionsArgs) -> Result<()> {
     };
     let mut levels = Vec::new();
     let mut fitted: Vec<FittedLevel> = Vec::new();
+    // (loops cut, loops fitted, the first fit error): nothing fitted is exit 2.
+    let (mut cut, mut fits, mut first_error) = (0usize, 0usize, None::<String>);
     for &offset in &offsets {
         let loops = loops_at(
             mesh_slicer.as_ref(),
@@ -177,9 +192,11 @@ pub fn run(args: SectionsArgs) -> Result<()> {
         if loops.is_empty() {
             table += &format!("  {offset:>10.4}    -      0   (no loop)\n");
         }
+        cut += loops.len();
         for (i, l) in loops.iter().enumerate() {
             match fit_loop(&l.points, &fit_opts) {
                 Ok(fit) => {
+                    fits += 1;
                     table += &format!(
                         "  {offset:>10.4} {i:>4} {:>6} {:>10.4} {:>10.5} {:>5} {:>9} {:>9} {:>9} {:>9}{}\n",
                         l.points.len(),
@@ -201,11 +218,30 @@ pub fn run(args: SectionsArgs) -> Result<()> {
                     }
                 }
                 Err(e) => {
-                    eprintln!("trigbody: warning: {name}: loop {i} at offset {offset}: {e}");
+                    let e = format!("{name}: loop {i} at offset {offset}: {e}");
+                    eprintln!("trigbody: warning: {e}");
+                    first_error.get_or_insert(e);
                 }
             }
         }
         levels.push(json!({ "offset": offset, "loops": json_loops }));
+    }
+    if cut == 0 {
+        return Err(bad(format!(
+            "{name}: no loop at any of the {} levels from {from} to {to}{}",
+            offsets.len(),
+            if is_scan {
+                " (a thinner --half-thickness than the point spacing finds none)"
+            } else {
+                ""
+            }
+        )));
+    }
+    if fits == 0 {
+        return Err(bad(format!(
+            "none of the {cut} loops could be fitted; the first: {}",
+            first_error.unwrap_or_default()
+        )));
     }
     if let Some(path) = &args.json {
         let doc = json!({

@@ -10,6 +10,7 @@
 //! commands.
 
 mod body_input;
+mod bounds;
 mod cmd_batch;
 mod cmd_corpus;
 mod cmd_fit;
@@ -23,8 +24,10 @@ mod cmd_scan;
 mod cmd_sections;
 mod examples;
 mod exit;
+mod input_file;
 mod output;
 mod panels;
+mod plausible;
 mod progress;
 
 use clap::{Parser, Subcommand};

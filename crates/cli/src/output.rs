@@ -1,85 +1,105 @@
 //! Writing output files: one policy for every command.
 //!
 //! * An output is never written over one of the command's inputs, not even
-//!   with `--force` (the input is what the output was made from).
+//!   with `--force` (the input is what the output was made from): the same
+//!   file is found by device and inode, so a hard link or another spelling
+//!   of the path is caught too.
+//! * Two outputs of one command may not name the same file.
 //! * An existing file is replaced only with `--force`; without it the
-//!   command stops with exit 2 naming the file, before anything is written.
+//!   command stops with exit 2 naming the file.
 //! * The bytes go to a temporary file beside the target, which is then
-//!   renamed over it: a failure (disk full, a killed process) never leaves
-//!   half a file under the user's name. Without `--force` the name is first
-//!   claimed with `create_new`, so two runs cannot both "create" it.
+//!   renamed (or, without `--force`, hard-linked) into place
+//!   ([`trigbody_io::write_atomically`]): a failure or a killed process
+//!   never leaves half a file under the user's name, and a file being
+//!   replaced survives every failure.
 //! * Missing parent directories are created.
 //! * A target that is neither a regular file nor a directory (a device such
 //!   as `/dev/null` or `/dev/stdout`, a FIFO) is written in place, with or
-//!   without `--force`: writing to it replaces nothing, and a rename would
-//!   put a regular file where the device was (it did: `-o /dev/null
-//!   --force` turned the machine's `/dev/null` into a file).
+//!   without `--force`, in the command's default format when its name has
+//!   no extension: writing to it replaces nothing, and a rename would
+//!   put a regular file where the device was.
 
 use crate::exit::bad;
 use anyhow::Result;
-use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Writes `bytes` to `path` under the policy above; `inputs` are the
 /// command's input files.
 pub fn write_file(path: &Path, bytes: &[u8], inputs: &[&Path], force: bool) -> Result<()> {
-    let shown = path.display();
     refuse_input(path, inputs)?;
-    if trigbody_io::is_special_file(path) {
-        return std::fs::OpenOptions::new()
-            .write(true)
-            .open(path)
-            .and_then(|mut f| f.write_all(bytes).and_then(|()| f.flush()))
-            .map_err(|e| bad(format!("{shown}: {e}")));
-    }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| bad(format!("{}: {e}", dir.display())))?;
     }
-    // Claim the name first when replacing is not allowed.
-    let claimed = if force {
-        false
-    } else {
-        std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(path)
-            .map_err(|e| {
-                if e.kind() == std::io::ErrorKind::AlreadyExists {
-                    bad(format!(
-                        "{shown}: already exists; use --force to replace it"
-                    ))
-                } else {
-                    bad(format!("{shown}: {e}"))
-                }
-            })?;
-        true
+    trigbody_io::write_atomically(path, force, |w| Ok(w.write_all(bytes)?)).map_err(|e| match e {
+        trigbody_io::IoError::AlreadyExists { .. } => bad(format!(
+            "{}: already exists; use --force to replace it",
+            path.display()
+        )),
+        e => bad(e),
+    })
+}
+
+/// Whether two paths name one existing file (same device and inode on
+/// Unix, so hard links count), or, when neither exists yet, the same name.
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => same_inode(&x, &y, a, b),
+        (Err(_), Err(_)) => absolute(a) == absolute(b),
+        _ => false,
+    }
+}
+
+#[cfg(unix)]
+fn same_inode(x: &std::fs::Metadata, y: &std::fs::Metadata, _: &Path, _: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    x.dev() == y.dev() && x.ino() == y.ino()
+}
+
+#[cfg(not(unix))]
+fn same_inode(_: &std::fs::Metadata, _: &std::fs::Metadata, a: &Path, b: &Path) -> bool {
+    absolute(a) == absolute(b)
+}
+
+/// The path with its directory resolved (the file itself need not exist).
+fn absolute(p: &Path) -> Option<std::path::PathBuf> {
+    if let Ok(c) = p.canonicalize() {
+        return Some(c);
+    }
+    let dir = match p.parent().filter(|d| !d.as_os_str().is_empty()) {
+        Some(d) => d.canonicalize().ok()?,
+        None => std::env::current_dir().ok()?,
     };
-    let tmp = temporary_beside(path);
-    let written = std::fs::File::create(&tmp)
-        .and_then(|mut f| {
-            f.write_all(bytes)?;
-            f.sync_all()
-        })
-        .and_then(|()| std::fs::rename(&tmp, path));
-    if let Err(e) = written {
-        let _ = std::fs::remove_file(&tmp);
-        if claimed {
-            let _ = std::fs::remove_file(path);
-        }
-        return Err(bad(format!("{shown}: {e}")));
+    Some(dir.join(p.file_name()?))
+}
+
+/// Exit 2 when `path` is one of `inputs` (by device and inode).
+pub fn refuse_input(path: &Path, inputs: &[&Path]) -> Result<()> {
+    if trigbody_io::is_special_file(path) {
+        return Ok(());
+    }
+    if inputs.iter().any(|input| same_file(path, input)) {
+        return Err(bad(format!(
+            "{}: refusing to write over the input file",
+            path.display()
+        )));
     }
     Ok(())
 }
 
-/// Exit 2 when `path` names one of `inputs` (for the writers of
-/// `trigbody-io`, which keep the rest of the policy themselves).
-pub fn refuse_input(path: &Path, inputs: &[&Path]) -> Result<()> {
-    if let Ok(target) = path.canonicalize() {
-        for input in inputs {
-            if input.canonicalize().is_ok_and(|i| i == target) {
+/// Exit 2 when two of a command's outputs name the same file (the second
+/// would silently replace the first); devices may repeat.
+pub fn refuse_repeated_outputs(outputs: &[(&str, Option<&Path>)]) -> Result<()> {
+    let given: Vec<(&str, &Path)> = outputs
+        .iter()
+        .filter_map(|(flag, p)| p.map(|p| (*flag, p)))
+        .collect();
+    for (i, (flag_a, a)) in given.iter().enumerate() {
+        for (flag_b, b) in &given[i + 1..] {
+            if !trigbody_io::is_special_file(a) && same_file(a, b) {
                 return Err(bad(format!(
-                    "{}: refusing to write over the input file",
-                    path.display()
+                    "{flag_a} {} and {flag_b} {} name the same file; give each output its own name",
+                    a.display(),
+                    b.display()
                 )));
             }
         }
@@ -87,19 +107,20 @@ pub fn refuse_input(path: &Path, inputs: &[&Path]) -> Result<()> {
     Ok(())
 }
 
-/// `dir/.name.trigbody-PID.tmp`: hidden, beside the target (same file
-/// system, so the rename is atomic), unique per process.
-fn temporary_beside(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "output".to_string());
-    path.with_file_name(format!(".{name}.trigbody-{}.tmp", std::process::id()))
+/// The lower-case extension of an output path; for a device or FIFO
+/// without one (`/dev/null`), `default`.
+pub fn output_extension(path: &Path, default: &str) -> String {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some(e) => e.to_ascii_lowercase(),
+        None if trigbody_io::is_special_file(path) => default.to_string(),
+        None => String::new(),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::PathBuf;
 
     #[cfg(unix)]
     #[test]
@@ -150,6 +171,39 @@ mod tests {
             assert!(e.to_string().contains("input file"), "{e}");
         }
         assert_eq!(std::fs::read(&p).unwrap(), b"v 0 0 0");
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_hard_link_to_the_input_is_the_input() {
+        let d = dir("link");
+        let p = d.join("in.obj");
+        std::fs::write(&p, b"v 0 0 0").unwrap();
+        let link = d.join("link.obj");
+        std::fs::hard_link(&p, &link).unwrap();
+        let e = write_file(&link, b"x", &[&p], true).unwrap_err();
+        assert!(e.to_string().contains("input file"), "{e}");
+        assert_eq!(std::fs::read(&p).unwrap(), b"v 0 0 0");
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[test]
+    fn two_outputs_with_one_name_are_refused() {
+        let d = dir("twice");
+        let a = d.join("a.json");
+        let same = d.join(".").join("a.json");
+        let e = refuse_repeated_outputs(&[
+            ("-o", Some(&a)),
+            ("--mesh", None),
+            ("--report", Some(&same)),
+        ])
+        .unwrap_err();
+        assert!(e.to_string().contains("name the same file"), "{e}");
+        let b = d.join("b.json");
+        refuse_repeated_outputs(&[("-o", Some(&a)), ("--report", Some(&b))]).unwrap();
+        let null = Path::new("/dev/null");
+        refuse_repeated_outputs(&[("-o", Some(null)), ("--report", Some(null))]).unwrap();
         std::fs::remove_dir_all(d).unwrap();
     }
 

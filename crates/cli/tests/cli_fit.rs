@@ -220,7 +220,11 @@ fn bad_input_exits_2_with_a_clear_message() {
         "0 0\n1 0\n0 1\n",
         "unknown picture format",
     );
-    refused(&["--ea=-1"], "0 0\n1 0\n0 1\n", "invalid tolerance");
+    refused(
+        &["--ea=-1"],
+        "0 0\n1 0\n0 1\n",
+        "must be a finite number above 0",
+    );
 }
 
 #[test]

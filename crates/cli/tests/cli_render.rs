@@ -144,7 +144,10 @@ fn bad_input_exits_2_naming_the_file_or_value() {
         "model.json",
     );
     fails_with_bad_input(&["render", mesh, "-o", out, "--views", "top"], "top");
-    fails_with_bad_input(&["render", mesh, "-o", out, "--size", "0"], "0×0");
+    fails_with_bad_input(
+        &["render", mesh, "-o", out, "--size", "0"],
+        "--size <SIZE>': must be a whole number in 16..=8192",
+    );
     fails_with_bad_input(&["render", mesh, "-o", out, "--supersample", "9"], "9");
     fails_with_bad_input(&["render", mesh, "-o", "picture.jpg"], "picture.jpg");
     assert!(!Path::new(out).exists());

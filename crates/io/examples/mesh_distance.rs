@@ -9,7 +9,7 @@
 //! (RMS of each direction), `rms_mm = √((a² + b²)/2)` (the report's
 //! symmetric RMS) and the two meshes' vertex and triangle counts.
 
-use trigbody_core::distance::{sample_surface, DistanceStats, MeshDistance};
+use trigbody_core::internals::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
 use trigbody_io::{read_geometry, Geometry, ReadOptions};
 
 fn main() {

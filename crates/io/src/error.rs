@@ -101,6 +101,17 @@ pub enum FormatErrorKind {
         /// Number of corners in the face.
         count: usize,
     },
+    /// A face has more corners than any body mesh needs (a bound against
+    /// files that would take minutes and gigabytes to triangulate).
+    #[error(
+        "a face has {count} corners, more than the {max} allowed; split it into smaller faces"
+    )]
+    FaceTooLarge {
+        /// Corners of the face (counted up to `max + 1` for text formats).
+        count: u64,
+        /// The largest face allowed, [`crate::MAX_FACE_CORNERS`].
+        max: usize,
+    },
     /// The PLY magic number is missing.
     #[error("not a PLY file: it does not start with \"ply\"")]
     NotPly,

@@ -1,7 +1,31 @@
 //! What a reader returns: a mesh or a point cloud.
 
 use crate::options::ReadOptions;
+use std::collections::HashSet;
 use trigbody_core::{Mesh, PointCloud, Vec3};
+
+/// What reading cleaned out of a mesh (see [`Geometry::clean`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadNotes {
+    /// Triangles that use one vertex twice (no area, no edges of their own).
+    pub degenerate: usize,
+    /// Triangles on the same three vertices as an earlier one (either
+    /// orientation): a copy adds nothing but work for every step after.
+    pub duplicate: usize,
+}
+
+impl ReadNotes {
+    /// A one-line warning when anything was dropped.
+    pub fn warning(&self) -> Option<String> {
+        (self.degenerate + self.duplicate > 0).then(|| {
+            format!(
+                "dropped {} degenerate triangle(s) (a vertex used twice) and {} duplicate \
+                 triangle(s) (the same three vertices as an earlier one)",
+                self.degenerate, self.duplicate
+            )
+        })
+    }
+}
 
 /// What a file held: a triangle mesh, or points only.
 #[derive(Clone, Debug, PartialEq)]
@@ -45,6 +69,25 @@ impl Geometry {
         }
     }
 
+    /// Drops a mesh's degenerate and duplicate triangles (see [`ReadNotes`])
+    /// and says how many; a mesh left without triangles is an error.
+    pub fn clean(&mut self) -> crate::Result<ReadNotes> {
+        let Geometry::Mesh(mesh) = self else {
+            return Ok(ReadNotes::default());
+        };
+        let notes = clean_triangles(&mut mesh.triangles);
+        if mesh.triangles.is_empty() {
+            return Err(crate::IoError::WrongKind {
+                path: None,
+                message: format!(
+                    "every one of its {} triangles is degenerate or a duplicate",
+                    notes.degenerate + notes.duplicate
+                ),
+            });
+        }
+        Ok(notes)
+    }
+
     /// Builds a mesh when there are triangles, points otherwise.
     /// Empty input is a [`FormatErrorKind::Empty`](crate::FormatErrorKind::Empty)
     /// error of `format`; everything else is checked by the core's `validate`.
@@ -77,5 +120,55 @@ impl Geometry {
             mesh.validate()?;
             Ok(Geometry::Mesh(mesh))
         }
+    }
+}
+
+/// Keeps the first triangle on each set of three distinct vertices, in
+/// order; one pass with a hash set (linear in the triangles).
+fn clean_triangles(triangles: &mut Vec<[u32; 3]>) -> ReadNotes {
+    let mut notes = ReadNotes::default();
+    let mut seen: HashSet<[u32; 3]> = HashSet::with_capacity(triangles.len());
+    triangles.retain(|t| {
+        let [a, b, c] = *t;
+        if a == b || b == c || a == c {
+            notes.degenerate += 1;
+            return false;
+        }
+        let mut key = *t;
+        key.sort_unstable();
+        if !seen.insert(key) {
+            notes.duplicate += 1;
+            return false;
+        }
+        true
+    });
+    notes
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn degenerate_and_duplicate_triangles_are_dropped_and_counted() {
+        let mut t = vec![
+            [0, 1, 2],
+            [0, 0, 1],
+            [2, 1, 0],
+            [1, 2, 0],
+            [1, 2, 3],
+            [3, 3, 3],
+        ];
+        let notes = clean_triangles(&mut t);
+        assert_eq!(t, vec![[0, 1, 2], [1, 2, 3]]);
+        assert_eq!(
+            notes,
+            ReadNotes {
+                degenerate: 2,
+                duplicate: 2
+            }
+        );
+        assert!(notes.warning().unwrap().contains("2 duplicate"));
+        assert_eq!(ReadNotes::default().warning(), None);
     }
 }

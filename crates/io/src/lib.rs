@@ -37,6 +37,7 @@
 
 #![warn(missing_docs)]
 
+mod atomic;
 pub mod body_file;
 mod error;
 pub mod fit_json;
@@ -53,34 +54,62 @@ pub mod tbm;
 mod text;
 pub mod xyz;
 
+pub use atomic::write_atomically;
 pub use error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 pub use format::Format;
-pub use geometry::Geometry;
+pub use geometry::{Geometry, ReadNotes};
+
+/// The most corners a face may have (OBJ, PLY, ASCII STL); a larger one is
+/// a [`FormatErrorKind::FaceTooLarge`] naming its line or element.
+pub const MAX_FACE_CORNERS: usize = 65_536;
+
+/// A face of `n` corners is refused when larger than [`MAX_FACE_CORNERS`]
+/// (checked before its indices are read, where the format gives `n` first).
+pub(crate) fn check_face_size(n: u64) -> std::result::Result<(), FormatErrorKind> {
+    if n > MAX_FACE_CORNERS as u64 {
+        return Err(FormatErrorKind::FaceTooLarge {
+            count: n,
+            max: MAX_FACE_CORNERS,
+        });
+    }
+    Ok(())
+}
 pub use options::{ParseUpAxisError, PlyPrecision, ReadOptions, UpAxis, WriteOptions};
 
-use std::fs::{File, OpenOptions};
-use std::io::{BufWriter, Read, Write};
+use std::fs::File;
+use std::io::{Read, Write};
 use std::path::Path;
 use trigbody_core::{Mesh, PointCloud};
 
-/// Reads geometry of a known format from any reader.
+/// Reads geometry of a known format from any reader; degenerate and
+/// duplicate triangles are dropped ([`Geometry::clean`]).
 pub fn read_from<R: Read>(reader: R, format: Format, options: &ReadOptions) -> Result<Geometry> {
-    match format {
-        Format::Obj => obj::read(reader, options),
-        Format::Ply => ply::read(reader, options),
-        Format::Stl => stl::read(reader, options),
-        Format::Xyz => xyz::read(reader, options),
-    }
+    let mut data = Vec::new();
+    let mut reader = reader;
+    reader.read_to_end(&mut data)?;
+    read_bytes(&data, format, options)
 }
 
-/// Reads geometry of a known format from bytes in memory.
+/// Reads geometry of a known format from bytes in memory; degenerate and
+/// duplicate triangles are dropped ([`Geometry::clean`]).
 pub fn read_bytes(data: &[u8], format: Format, options: &ReadOptions) -> Result<Geometry> {
-    match format {
+    read_bytes_noted(data, format, options).map(|(g, _)| g)
+}
+
+/// [`read_bytes`], also saying what was cleaned out.
+pub fn read_bytes_noted(
+    data: &[u8],
+    format: Format,
+    options: &ReadOptions,
+) -> Result<(Geometry, ReadNotes)> {
+    let mut geometry = match format {
         Format::Obj => obj::read_bytes(data, options),
         Format::Ply => ply::read_bytes(data, options),
         Format::Stl => stl::read_bytes(data, options),
         Format::Xyz => xyz::read_bytes(data, options),
-    }
+    }?;
+    let notes = geometry.clean()?;
+    Ok((geometry, notes))
 }
 
 fn format_of(path: &Path) -> Result<Format> {
@@ -94,12 +123,30 @@ fn format_of(path: &Path) -> Result<Format> {
 /// [`Geometry::Mesh`], one without (an XYZ file, a PLY or OBJ of points)
 /// [`Geometry::Points`]. Errors name the file.
 pub fn read_geometry(path: impl AsRef<Path>, options: &ReadOptions) -> Result<Geometry> {
+    read_geometry_noted(path, options).map(|(g, _)| g)
+}
+
+/// [`read_geometry`], also saying what was cleaned out. A path that is not
+/// a regular file (a FIFO, a device) is refused before it is opened:
+/// opening a FIFO without a writer would wait forever.
+pub fn read_geometry_noted(
+    path: impl AsRef<Path>,
+    options: &ReadOptions,
+) -> Result<(Geometry, ReadNotes)> {
     let path = path.as_ref();
-    let run = || -> Result<Geometry> {
+    let run = || -> Result<(Geometry, ReadNotes)> {
         let format = format_of(path)?;
+        if !std::fs::metadata(path)?.is_file() {
+            return Err(IoError::WrongKind {
+                path: None,
+                message: "not a regular file (a directory, FIFO or device); give a mesh or \
+                          scan file"
+                    .into(),
+            });
+        }
         let mut data = Vec::new();
         File::open(path)?.read_to_end(&mut data)?;
-        read_bytes(&data, format, options)
+        read_bytes_noted(&data, format, options)
     };
     run().map_err(|e| e.with_path(path))
 }
@@ -197,8 +244,8 @@ impl<'a> From<&'a Geometry> for GeometryRef<'a> {
 /// gives comma-separated values with a header). An existing file is an
 /// [`IoError::AlreadyExists`] unless `options.overwrite` is true; the check
 /// and the creation are one atomic step. Invalid geometry is rejected before
-/// the file is created, and a file left half-written by a failed write is
-/// removed.
+/// the file is created; the file is written atomically
+/// ([`write_atomically`]): a failure leaves the old file, or none.
 pub fn write_geometry(
     path: impl AsRef<Path>,
     geometry: &Geometry,
@@ -231,7 +278,18 @@ pub fn is_special_file(path: &Path) -> bool {
 
 fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) -> Result<()> {
     let format = format_of(path)?;
-    let csv = Format::is_csv(path);
+    write_path_as(path, geometry, format, Format::is_csv(path), options)
+}
+
+/// Writes geometry to a file in `format` whatever its name (a device such
+/// as `/dev/null` has no extension), atomically ([`write_atomically`]).
+fn write_path_as(
+    path: &Path,
+    geometry: GeometryRef<'_>,
+    format: Format,
+    csv: bool,
+    options: &WriteOptions,
+) -> Result<()> {
     // Check what can be checked before touching the file system.
     geometry
         .validate()
@@ -241,41 +299,41 @@ fn write_path(path: &Path, geometry: GeometryRef<'_>, options: &WriteOptions) ->
             .write(std::io::sink(), format, csv, options)
             .map_err(|e| e.with_path(path));
     }
-    // A device or FIFO (`/dev/null`, `/dev/stdout`) is written in place:
-    // nothing is replaced, it cannot be synced, and it is never removed.
-    let special = is_special_file(path);
-    let mut open = OpenOptions::new();
-    open.write(true);
-    if !special {
-        if options.overwrite {
-            open.create(true).truncate(true);
-        } else {
-            open.create_new(true);
-        }
-    }
-    let file = open.open(path).map_err(|e| {
-        if e.kind() == std::io::ErrorKind::AlreadyExists {
-            IoError::AlreadyExists {
-                path: path.to_path_buf(),
-            }
-        } else {
-            IoError::from(e).with_path(path)
-        }
-    })?;
-    let mut w = BufWriter::new(file);
-    let result = geometry.write(&mut w, format, csv, options).and_then(|()| {
-        w.flush()?;
-        if !special {
-            w.get_ref().sync_all()?;
-        }
-        Ok(())
-    });
-    if let Err(e) = result {
-        drop(w);
-        if !special {
-            let _ = std::fs::remove_file(path);
-        }
-        return Err(e.with_path(path));
-    }
-    Ok(())
+    write_atomically(path, options.overwrite, |w| {
+        geometry.write(w, format, csv, options)
+    })
+}
+
+/// Writes a mesh to a file in `format` (see [`write_geometry`]); for a
+/// target whose name gives no format, such as `/dev/null`.
+pub fn write_mesh_as(
+    path: impl AsRef<Path>,
+    mesh: &Mesh,
+    format: Format,
+    options: &WriteOptions,
+) -> Result<()> {
+    write_path_as(
+        path.as_ref(),
+        GeometryRef::Mesh(mesh),
+        format,
+        false,
+        options,
+    )
+}
+
+/// Writes a point cloud to a file in `format` (see [`write_mesh_as`]).
+pub fn write_point_cloud_as(
+    path: impl AsRef<Path>,
+    cloud: &PointCloud,
+    format: Format,
+    options: &WriteOptions,
+) -> Result<()> {
+    let csv = Format::is_csv(path.as_ref());
+    write_path_as(
+        path.as_ref(),
+        GeometryRef::Points(cloud),
+        format,
+        csv,
+        options,
+    )
 }

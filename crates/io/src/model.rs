@@ -271,7 +271,7 @@ pub enum ModelError {
     },
     /// A coefficient or frame component that is null (NaN written by a
     /// careless writer) or otherwise not a finite number.
-    #[error("part '{part}', section {section}: {field}[{index}] is {value}, not a finite number")]
+    #[error("part '{part}', section {section}: {field}[{index}] is {value}, not a finite number of magnitude at most 1e9")]
     NonFinite {
         /// The part's name.
         part: String,
@@ -388,6 +388,33 @@ fn structure(context: impl Into<String>) -> impl FnOnce(serde_json::Error) -> Mo
     }
 }
 
+/// The largest dome height and fullness a model file may give (relative
+/// to the end curve's radius; reconstructed bodies use up to about 3.5): a
+/// dome of height 1e300 tessellated to coordinates of 3e298.
+pub const MAX_DOME_RELATIVE: f64 = 100.0;
+
+/// The largest magnitude of a coordinate or coefficient in a model file
+/// (a body of a million kilometres in metres, or a kilometre in µm).
+pub const MAX_MAGNITUDE: f64 = 1e9;
+
+fn check_cap(cap: CapKind) -> Result<(), String> {
+    if let CapKind::Dome {
+        relative_height,
+        fullness,
+        ..
+    } = cap
+    {
+        for (field, x) in [("relative_height", relative_height), ("fullness", fullness)] {
+            if !(x > 0.0 && x <= MAX_DOME_RELATIVE) {
+                return Err(format!(
+                    "dome {field} {x:e} must lie in (0, {MAX_DOME_RELATIVE}]"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn finite_vec(
     values: &[Option<f64>],
     part: &str,
@@ -398,7 +425,7 @@ fn finite_vec(
         .iter()
         .enumerate()
         .map(|(index, v)| match v {
-            Some(x) if x.is_finite() => Ok(*x),
+            Some(x) if x.abs() <= MAX_MAGNITUDE => Ok(*x),
             other => Err(ModelError::NonFinite {
                 part: part.to_string(),
                 section,
@@ -626,6 +653,12 @@ pub(crate) fn model_of_value(doc: Value) -> Result<Model, ModelError> {
                 part: name,
                 count: rec.sections.len(),
             });
+        }
+        for (end, cap) in [("start", rec.caps.start), ("end", rec.caps.end)] {
+            check_cap(cap).map_err(|message| ModelError::Structure {
+                context: format!("part '{name}', {end} cap"),
+                message,
+            })?;
         }
         let skinning = Skinning::from_name(&rec.skinning.method).ok_or_else(|| {
             ModelError::UnknownSkinning {

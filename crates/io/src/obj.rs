@@ -212,6 +212,7 @@ pub fn read_bytes(data: &[u8], options: &ReadOptions) -> Result<Geometry> {
                         ));
                     }
                     polygon.push((v, n));
+                    crate::check_face_size(polygon.len() as u64).map_err(|k| err(line, k))?;
                 }
                 if polygon.len() < 3 {
                     return Err(err(

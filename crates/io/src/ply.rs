@@ -674,6 +674,7 @@ fn read_binary<const BIG: bool>(header: &Header, data: &[u8], sink: &mut Sink) -
                         };
                         if slot == Slot::FaceIndices {
                             sink.polygon.clear();
+                            crate::check_face_size(n).map_err(&at)?;
                             for _ in 0..n {
                                 let v = match cur.int::<BIG>(item).ok_or_else(|| eof(p))? {
                                     Ok(v) => v,
@@ -924,6 +925,7 @@ fn read_ascii(header: &Header, body: &[u8], sink: &mut Sink) -> Result<()> {
                         }
                         if slot == Slot::FaceIndices {
                             sink.polygon.clear();
+                            crate::check_face_size(n as u64).map_err(|k| at(k, start_line))?;
                         }
                         // Bounded by the input: each item needs a token.
                         for _ in 0..n as u64 {

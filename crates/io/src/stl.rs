@@ -221,6 +221,7 @@ fn read_ascii(data: &[u8]) -> Result<(Vec<Vec3>, Vec<[u32; 3]>)> {
                     })?;
                 }
                 polygon.push(welder.vertex(p));
+                crate::check_face_size(polygon.len() as u64).map_err(|k| err(line, k))?;
             }
             b"endfacet" => {
                 if !in_facet {

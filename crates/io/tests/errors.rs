@@ -96,9 +96,15 @@ fn header_count_larger_than_data_does_not_allocate_it() {
     d.extend_from_slice(&u32::MAX.to_le_bytes());
     let e = read(&d, Format::Ply);
     let (kind, loc) = kind_at(&e);
-    // The list claims 2^32 − 1 indices: the input ends inside face 0.
+    // The list claims 2^32 − 1 indices: refused as a face too large, at face 0.
     assert!(
-        matches!(kind, FormatErrorKind::UnexpectedEof { .. }),
+        matches!(
+            kind,
+            FormatErrorKind::FaceTooLarge {
+                count: 4_294_967_295,
+                ..
+            }
+        ),
         "{kind:?}"
     );
     assert!(

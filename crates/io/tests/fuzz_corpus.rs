@@ -56,3 +56,30 @@ fn saved_tbm_corpus_never_panics() {
     }
     assert!(files >= 6 && valid >= 1, "{files} files, {valid} valid");
 }
+
+/// The model-file target's corpus (`fuzz/corpus/model/`): read, then
+/// tessellated coarsely. Never a panic.
+#[test]
+fn saved_model_corpus_never_panics() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus/model");
+    let entries = std::fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    let coarse = trigbody_core::TessellationOptions {
+        around: 8,
+        along: 4,
+        cap_rings: 2,
+        target_edge: None,
+    };
+    let mut files = 0;
+    for entry in entries {
+        let path = entry.expect("directory entry").path();
+        let data = std::fs::read(&path).expect("corpus file");
+        let outcome = std::panic::catch_unwind(|| {
+            if let Ok(model) = trigbody_io::model::read_model(&data[..]) {
+                let _ = model.tessellate_pieces(&coarse);
+            }
+        });
+        assert!(outcome.is_ok(), "{} panicked", path.display());
+        files += 1;
+    }
+    assert!(files >= 2, "only {files} model corpus files found");
+}

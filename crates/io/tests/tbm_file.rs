@@ -2,8 +2,7 @@
 //! and damaged or truncated files are clear errors, never a panic.
 
 use std::sync::OnceLock;
-use trigbody_core::body::{reconstruct, ReconstructOptions};
-use trigbody_core::segment::BodyGeometry;
+use trigbody_core::{reconstruct, BodyGeometry, ReconstructOptions};
 use trigbody_io::model::{read_model, write_model, Model};
 use trigbody_io::tbm::{
     decode_tbm, encode_tbm, read_any_model, TbmError, TbmOptions, TbmStats, TBM_VERSION,

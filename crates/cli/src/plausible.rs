@@ -1,0 +1,306 @@
+//! Is the input one human body in the given unit? Checked before a body is
+//! reconstructed or measured, so that a wrong unit or a file of two people
+//! is exit 2 with what was measured, never a silently wrong model (a body in
+//! millimetres read as metres gave a 1 730 m stature and exit 0).
+
+use crate::exit::bad;
+use anyhow::Result;
+use trigbody_core::Units;
+use trigbody_core::{Aabb, Point3, Real};
+use trigbody_io::Geometry;
+
+/// The heights (m) a human body may have, after its unit: the longest side
+/// of its bounding box, so that a lying body counts too.
+pub const HUMAN_EXTENT_M: (Real, Real) = (0.4, 2.6);
+
+/// A second connected piece at least this share of the largest one's extent
+/// (and of human size itself) is a second body.
+const SECOND_BODY_SHARE: Real = 0.5;
+
+/// Both checks below (two people side by side are wider than any one); `flag` is the option that sets the unit (`--units`).
+pub fn check_body_input(name: &str, geometry: &Geometry, units: Units, flag: &str) -> Result<()> {
+    check_one_body(name, geometry, units)?;
+    check_extent(name, geometry.positions(), units, flag)
+}
+
+/// Exit 2 unless the input's extent lies in [`HUMAN_EXTENT_M`] in `units`;
+/// the message names the extent and the units that would fit.
+pub fn check_extent(name: &str, positions: &[Point3], units: Units, flag: &str) -> Result<()> {
+    let Some(extent) = robust_extent(positions) else {
+        return Ok(());
+    };
+    let (lo, hi) = HUMAN_EXTENT_M;
+    let metres = |u: Units| extent * u.to_mm() / 1000.0;
+    if (lo..=hi).contains(&metres(units)) {
+        return Ok(());
+    }
+    let fits: Vec<String> = [Units::Metres, Units::Centimetres, Units::Millimetres]
+        .into_iter()
+        .filter(|u| (lo..=hi).contains(&metres(*u)))
+        .map(|u| format!("with {flag} {} it is {:.2} m tall", u.symbol(), metres(u)))
+        .collect();
+    let hint = if fits.is_empty() {
+        "no unit (m, cm, mm) makes it a human size; is it a body at all?".to_string()
+    } else {
+        fits.join("; ")
+    };
+    Err(bad(format!(
+        "{name}: the input measures {extent:.4e} along its longest side (1st to 99th \
+         percentile of its points), which in {flag} {} is \
+         {:.4e} m: not a human body's height ({lo}-{hi} m); {hint}",
+        units.symbol(),
+        metres(units)
+    )))
+}
+
+/// The longest side of the box from the 1st to the 99th percentile of the
+/// points along each axis: stray points of a scan (1 % of body_011's, 0.6 m
+/// beyond the body) do not count.
+fn robust_extent(positions: &[Point3]) -> Option<Real> {
+    if positions.is_empty() {
+        return None;
+    }
+    let n = positions.len();
+    let (lo, hi) = (n / 100, n - 1 - n / 100);
+    let mut side: Real = 0.0;
+    let mut v: Vec<Real> = Vec::with_capacity(n);
+    for k in 0..3 {
+        v.clear();
+        v.extend(positions.iter().map(|p| p[k]));
+        let low = *v.select_nth_unstable_by(lo, Real::total_cmp).1;
+        let high = *v.select_nth_unstable_by(hi, Real::total_cmp).1;
+        side = side.max(high - low);
+    }
+    Some(side)
+}
+
+fn longest_side(b: &Aabb) -> Real {
+    let d = b.max - b.min;
+    d.x.max(d.y).max(d.z)
+}
+
+/// Exit 2 when the input holds two or more separate pieces each of human
+/// size (two people in one file); small pieces (eyes, stray points) and a
+/// piece inside another (a mouth, an inner layer) do not count.
+pub fn check_one_body(name: &str, geometry: &Geometry, units: Units) -> Result<()> {
+    let boxes = match geometry {
+        Geometry::Mesh(m) => component_boxes(&m.positions, &mesh_components(m)),
+        Geometry::Points(c) => cloud_component_boxes(&c.positions),
+    };
+    let mut boxes = clusters(boxes);
+    boxes.sort_by(|a, b| longest_side(b).total_cmp(&longest_side(a)));
+    let Some(first) = boxes.first().copied() else {
+        return Ok(());
+    };
+    let big = longest_side(&first);
+    let to_m = units.to_mm() / 1000.0;
+    let bodies: Vec<Aabb> = boxes
+        .into_iter()
+        .enumerate()
+        .filter(|(i, b)| {
+            let e = longest_side(b);
+            e >= SECOND_BODY_SHARE * big
+                && e * to_m >= HUMAN_EXTENT_M.0
+                && (*i == 0 || !mostly_inside(b, &first))
+        })
+        .map(|(_, b)| b)
+        .collect();
+    if bodies.len() < 2 {
+        return Ok(());
+    }
+    let sizes: Vec<String> = bodies
+        .iter()
+        .map(|b| format!("{:.2} m", longest_side(b) * to_m))
+        .collect();
+    Err(bad(format!(
+        "{name}: the input holds {} separate bodies (connected pieces {} across); give one \
+         body per file",
+        bodies.len(),
+        sizes.join(", ")
+    )))
+}
+
+/// The pieces of one body overlap (a tessellated model's parts are separate
+/// meshes; a scan's arm may be cut off at the shoulder): pieces larger than
+/// 2 % of the largest whose boxes touch are merged, and each group's box is
+/// returned. Two people side by side have boxes apart.
+fn clusters(boxes: Vec<Aabb>) -> Vec<Aabb> {
+    let big = boxes.iter().map(longest_side).fold(0.0, Real::max);
+    let mut boxes: Vec<Aabb> = boxes
+        .into_iter()
+        .filter(|b| longest_side(b) >= 0.02 * big)
+        .collect();
+    if boxes.len() > 1000 {
+        // A soup of large unconnected faces: no pieces to tell apart.
+        return Vec::new();
+    }
+    let margin = 0.01 * big;
+    let touch = |a: &Aabb, b: &Aabb| {
+        (0..3).all(|k| a.min[k] - margin <= b.max[k] && b.min[k] - margin <= a.max[k])
+    };
+    // Merge until no two boxes touch (few boxes: quadratic is fine).
+    loop {
+        let mut merged = false;
+        'outer: for i in 0..boxes.len() {
+            for j in i + 1..boxes.len() {
+                if touch(&boxes[i], &boxes[j]) {
+                    let b = boxes.swap_remove(j);
+                    boxes[i].min = boxes[i].min.min(b.min);
+                    boxes[i].max = boxes[i].max.max(b.max);
+                    merged = true;
+                    break 'outer;
+                }
+            }
+        }
+        if !merged {
+            return boxes;
+        }
+    }
+}
+
+/// Whether at least half of `b`'s box lies inside `outer`'s.
+fn mostly_inside(b: &Aabb, outer: &Aabb) -> bool {
+    let overlap = |lo: Real, hi: Real| (hi - lo).max(0.0);
+    let lo = b.min.max(outer.min);
+    let hi = b.max.min(outer.max);
+    let vol = |d: trigbody_core::Vec3| d.x.max(1e-300) * d.y.max(1e-300) * d.z.max(1e-300);
+    let shared = overlap(lo.x, hi.x) * overlap(lo.y, hi.y) * overlap(lo.z, hi.z);
+    shared >= 0.5 * vol(b.max - b.min)
+}
+
+/// Union-find root with path halving.
+fn root(parent: &mut [usize], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// The component of every vertex: vertices joined by triangles.
+fn mesh_components(m: &trigbody_core::Mesh) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..m.positions.len()).collect();
+    for t in &m.triangles {
+        let a = root(&mut parent, t[0] as usize);
+        for &v in &t[1..] {
+            let b = root(&mut parent, v as usize);
+            parent[b] = a;
+        }
+    }
+    (0..parent.len()).map(|i| root(&mut parent, i)).collect()
+}
+
+/// The bounding box of every component (by label) that has points.
+fn component_boxes(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
+    let mut boxes: std::collections::HashMap<usize, Aabb> = Default::default();
+    for (p, &l) in points.iter().zip(label) {
+        boxes
+            .entry(l)
+            .and_modify(|b| {
+                b.min = b.min.min(*p);
+                b.max = b.max.max(*p);
+            })
+            .or_insert(Aabb { min: *p, max: *p });
+    }
+    boxes.into_values().collect()
+}
+
+/// A cloud's pieces: points in touching cells of a grid 1/60 of its extent
+/// (about 3 cm on a standing body: a gap wider than that separates).
+fn cloud_component_boxes(points: &[Point3]) -> Vec<Aabb> {
+    let Some(b) = Aabb::from_points(points) else {
+        return Vec::new();
+    };
+    let cell = (longest_side(&b) / 60.0).max(Real::MIN_POSITIVE);
+    let key = |p: &Point3| {
+        let q = (*p - b.min) / cell;
+        (q.x as i64, q.y as i64, q.z as i64)
+    };
+    let mut cells: std::collections::HashMap<(i64, i64, i64), usize> = Default::default();
+    for p in points {
+        let n = cells.len();
+        cells.entry(key(p)).or_insert(n);
+    }
+    let mut parent: Vec<usize> = (0..cells.len()).collect();
+    for (&(x, y, z), &i) in &cells {
+        for (dx, dy, dz) in
+            (-1..=1).flat_map(|a| (-1..=1).flat_map(move |b| (-1..=1).map(move |c| (a, b, c))))
+        {
+            if let Some(&j) = cells.get(&(x + dx, y + dy, z + dz)) {
+                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
+                parent[b] = a;
+            }
+        }
+    }
+    let label: Vec<usize> = points
+        .iter()
+        .map(|p| root(&mut parent, cells[&key(p)]))
+        .collect();
+    component_boxes(points, &label)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trigbody_core::{PointCloud, Vec3};
+
+    fn column(x: Real, height: Real) -> Vec<Point3> {
+        (0..400)
+            .map(|i| {
+                Vec3::new(
+                    x + 0.1 * (i % 4) as Real / 4.0,
+                    height * i as Real / 399.0,
+                    0.0,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_millimetre_body_read_as_metres_is_refused_with_the_unit_that_fits() {
+        let mm: Vec<Point3> = column(0.0, 1730.0);
+        let e = check_extent("b.obj", &mm, Units::Metres, "--units").unwrap_err();
+        let e = e.to_string();
+        assert!(e.contains("with --units mm it is 1.70 m tall"), "{e}");
+        check_extent("b.obj", &mm, Units::Millimetres, "--units").unwrap();
+        let huge: Vec<Point3> = column(0.0, 1.73e20);
+        let e = check_extent("b.obj", &huge, Units::Metres, "--units").unwrap_err();
+        assert!(e.to_string().contains("no unit"), "{e}");
+    }
+
+    #[test]
+    fn overlapping_pieces_are_one_body() {
+        // A torso with two separate legs overlapping its box, as a
+        // tessellated model's parts are.
+        let mut pieces = column(0.0, 1.7);
+        let leg: Vec<Point3> = column(0.05, 0.9)
+            .into_iter()
+            .map(|p| p + Vec3::new(0.0, -0.1, 0.0))
+            .collect();
+        pieces.extend(leg);
+        let cloud = Geometry::Points(PointCloud {
+            positions: pieces,
+            normals: None,
+        });
+        check_one_body("one.ply", &cloud, Units::Metres).unwrap();
+    }
+
+    #[test]
+    fn two_people_side_by_side_are_two_bodies_and_one_is_one() {
+        let mut two = column(0.0, 1.7);
+        two.extend(column(1.0, 1.6));
+        let cloud = Geometry::Points(PointCloud {
+            positions: two,
+            normals: None,
+        });
+        let e = check_one_body("two.ply", &cloud, Units::Metres).unwrap_err();
+        assert!(e.to_string().contains("2 separate bodies"), "{e}");
+        let mut one = column(0.0, 1.7);
+        one.extend(column(1.0, 0.1)); // a small stray piece
+        let cloud = Geometry::Points(PointCloud {
+            positions: one,
+            normals: None,
+        });
+        check_one_body("one.ply", &cloud, Units::Metres).unwrap();
+    }
+}

@@ -1,0 +1,655 @@
+//! The hostile-input suite (issue 19): every case a hostile user tried,
+//! and more, each with its expected exit code and a fragment of its
+//! message. Every run is the real binary under a 20 s watchdog: a hang is a
+//! failure, and so is a panic or an abort (no exit code). Hostile files are
+//! made in a scratch directory at test time; nothing large is committed.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_trigbody");
+/// The built-in body (metres), in the repository.
+const BODY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/bodies/mh_male.obj");
+const LIMIT: Duration = Duration::from_secs(20);
+
+struct Outcome {
+    code: i32,
+    stderr: String,
+    elapsed: Duration,
+}
+
+/// Runs the binary in `dir` with a watchdog.
+fn run(dir: &Path, args: &[&str]) -> Outcome {
+    let started = Instant::now();
+    let mut child = Command::new(BIN)
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the trigbody binary");
+    let mut stderr = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = std::io::Read::read_to_string(&mut stderr, &mut s);
+        s
+    });
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed() > LIMIT {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{args:?}: still running after {LIMIT:?} (a hang)");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let stderr = reader.join().unwrap();
+    let code = status
+        .code()
+        .unwrap_or_else(|| panic!("{args:?}: killed by a signal (a crash): {stderr}"));
+    assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    Outcome {
+        code,
+        stderr,
+        elapsed: started.elapsed(),
+    }
+}
+
+/// One case: `args` must exit with `code` and say `fragment` on stderr.
+fn case(dir: &Path, args: &[&str], code: i32, fragment: &str) -> Outcome {
+    let out = run(dir, args);
+    assert_eq!(out.code, code, "{args:?}: {}", out.stderr);
+    assert!(
+        out.stderr.contains(fragment),
+        "{args:?}: expected {fragment:?} in: {}",
+        out.stderr
+    );
+    out
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("hostile-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The built-in body with every vertex scaled by `s` (and moved by `dx` in x).
+fn scaled_body(s: f64, dx: f64) -> String {
+    let text = std::fs::read_to_string(BODY).unwrap();
+    text.lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(rest) => {
+                let c: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|t| t.parse().unwrap())
+                    .collect();
+                format!("v {} {} {}\n", s * c[0] + dx, s * c[1], s * c[2])
+            }
+            None => format!("{l}\n"),
+        })
+        .collect()
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    std::fs::write(dir.join(name), text).unwrap();
+    name.to_string()
+}
+
+#[test]
+fn resource_bounds_are_exit_2_naming_the_option_and_its_range() {
+    let d = scratch("bounds");
+    case(&d, &["reconstruct", "-o", "m.json"], 0, "");
+    let mut n = 0;
+    let mut c = |args: &[&str], frag: &str| {
+        case(&d, args, 2, frag);
+        n += 1;
+    };
+    c(
+        &["scan", BODY, "-o", "s.ply", "--points", "10000000000"],
+        "'--points <POINTS>': must be a whole number in 1..=20000000",
+    );
+    c(
+        &["scan", BODY, "-o", "s.ply", "--points", "100000000"],
+        "1..=20000000",
+    );
+    c(
+        &["scan", BODY, "-o", "s.ply", "--azimuths", "1000000"],
+        "--azimuths",
+    );
+    c(
+        &["scan", BODY, "-o", "s.ply", "--heights", "0"],
+        "--heights",
+    );
+    c(
+        &["reconstruct", "--spacing", "1e-6"],
+        "'--spacing <SPACING>': must be a number in [0.002, 0.2]",
+    );
+    c(&["reconstruct", "--spacing", "NaN"], "--spacing");
+    c(
+        &["plot-sections", BODY, "--panel-size", "0", "-o", "p.png"],
+        "--panel-size <PANEL_SIZE>': must be a whole number in 64..=4096",
+    );
+    c(
+        &["plot-sections", BODY, "--panel-size", "0", "-o", "p.svg"],
+        "--panel-size",
+    );
+    c(
+        &["plot-sections", BODY, "--columns", "0", "-o", "p.svg"],
+        "--columns",
+    );
+    c(
+        &["render", BODY, "-o", "r.png", "--size", "100000"],
+        "--size",
+    );
+    c(
+        &["mesh", "m.json", "-o", "m.obj", "--edge", "1e-7"],
+        "--edge 0.0000001: must be at least",
+    );
+    c(
+        &["mesh", "m.json", "-o", "m.obj", "--around", "100000000"],
+        "--around",
+    );
+    c(
+        &["mesh", "m.json", "-o", "m.obj", "--along", "0"],
+        "--along",
+    );
+    assert!(!d.join("s.ply").exists() && !d.join("p.png").exists() && !d.join("m.obj").exists());
+    assert_eq!(n, 13);
+}
+
+#[test]
+fn sections_validates_its_options_as_fit_does() {
+    let d = scratch("sections");
+    let loop_text = write(&d, "loop.txt", "0 0\n1 0\n1.3 0.8\n0.5 1.4\n-0.3 0.8\n");
+    for (flags, frag) in [
+        (
+            &["--half-thickness", "0"][..],
+            "--half-thickness <HALF_THICKNESS>': must be a finite number above 0",
+        ),
+        (
+            &["--order", "1000000000"][..],
+            "the order must be at most 10000",
+        ),
+        (
+            &["--ea", "0", "--em", "0"][..],
+            "'--ea <EA>': must be a finite number above 0",
+        ),
+        (&["--reference", "0,0,0"][..], "is the zero vector"),
+        (
+            &["--smoothing", "-5"][..],
+            "'--smoothing <SMOOTHING>': must be a finite number, 0 or above",
+        ),
+        (&["--max-order", "0"][..], "--max-order"),
+    ] {
+        let mut args = vec!["sections", BODY];
+        args.extend_from_slice(flags);
+        case(&d, &args, 2, frag);
+        if !flags.contains(&"--half-thickness") {
+            let mut fit = vec!["fit", &loop_text];
+            fit.extend_from_slice(flags);
+            case(&d, &fit, 2, frag);
+        }
+    }
+    // What only the data can refuse: nothing done is no success.
+    case(&d, &["sections", BODY, "--order", "5000"], 2, "none of the");
+    case(
+        &d,
+        &["sections", BODY, "--reference", "0,1,0"],
+        2,
+        "parallel to the cutting axis",
+    );
+    case(
+        &d,
+        &["sections", BODY, "--from", "5", "--to", "6"],
+        2,
+        "outside the input",
+    );
+    case(&d, &["sections", BODY, "--count", "0"], 2, "--count");
+    case(
+        &d,
+        &["sections", BODY, "--step", "1e-9"],
+        2,
+        "more than 100 000 planes",
+    );
+}
+
+#[test]
+fn hostile_meshes_end_quickly_with_a_clear_answer() {
+    let d = scratch("meshes");
+    // 100 000 copies of one triangle.
+    let copies = write(
+        &d,
+        "copies.obj",
+        &format!("v 0 0 0\nv 1 0 0\nv 0 1 0\n{}", "f 1 2 3\n".repeat(100_000)),
+    );
+    for cmd in ["sections", "reconstruct", "measure"] {
+        let out = run(&d, &[cmd, &copies]);
+        assert_eq!(out.code, 2, "{cmd}: {}", out.stderr);
+        assert!(
+            out.stderr.contains("99999 duplicate"),
+            "{cmd}: {}",
+            out.stderr
+        );
+    }
+    // The body with 100 000 copies of its first face: the copies are
+    // dropped with a warning and the body is the body.
+    let body = std::fs::read_to_string(BODY).unwrap();
+    let first = body.lines().find(|l| l.starts_with("f ")).unwrap();
+    let padded = write(
+        &d,
+        "padded.obj",
+        &format!("{body}{}", format!("{first}\n").repeat(100_000)),
+    );
+    let out = case(&d, &["reconstruct", &padded], 0, "duplicate triangle(s)");
+    assert!(out.elapsed < Duration::from_secs(15), "{:?}", out.elapsed);
+    case(&d, &["measure", &padded], 0, "duplicate triangle(s)");
+    // One face line with 5.1 million indices.
+    let big = write(
+        &d,
+        "bigface.obj",
+        &format!(
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nf {}\n",
+            "1 2 3 ".repeat(1_700_000)
+        ),
+    );
+    case(
+        &d,
+        &["sections", &big],
+        2,
+        "bigface.obj: OBJ file, line 4: a face has 65537 corners, more than the 65536 allowed",
+    );
+    // Only degenerate faces.
+    let flat = write(
+        &d,
+        "flat.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\nf 2 3 3\n",
+    );
+    case(
+        &d,
+        &["reconstruct", &flat],
+        2,
+        "every one of its 2 triangles is degenerate or a duplicate",
+    );
+    // A PLY face list claiming 4 billion indices.
+    let mut ply = b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uint int vertex_indices\nend_header\n".to_vec();
+    ply.extend_from_slice(&[0; 36]);
+    ply.extend_from_slice(&u32::MAX.to_le_bytes());
+    std::fs::write(d.join("list.ply"), ply).unwrap();
+    case(&d, &["sections", "list.ply"], 2, "face 0 (byte");
+    // More malformed input.
+    case(
+        &d,
+        &[
+            "reconstruct",
+            &write(&d, "nan.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+        ],
+        2,
+        "nan.obj",
+    );
+    case(
+        &d,
+        &["reconstruct", &write(&d, "empty.obj", "")],
+        2,
+        "empty",
+    );
+    case(
+        &d,
+        &["reconstruct", &write(&d, "body.dae", "x")],
+        2,
+        "unknown file extension",
+    );
+    case(&d, &["reconstruct", "missing.obj"], 2, "missing.obj");
+    std::fs::create_dir_all(d.join("dir.obj")).unwrap();
+    case(&d, &["reconstruct", "dir.obj"], 2, "not a regular file");
+    let bad_index = write(&d, "index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99\n");
+    case(&d, &["sections", &bad_index], 2, "line 4");
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_as_input_is_refused_without_blocking() {
+    let d = scratch("fifo");
+    let made = Command::new("mkfifo").arg(d.join("pipe.obj")).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("mkfifo unavailable: FIFO case skipped");
+        return;
+    }
+    for cmd in ["sections", "reconstruct", "measure", "scan"] {
+        let mut args = vec![cmd, "pipe.obj"];
+        if cmd == "scan" {
+            args.extend(["-o", "s.ply"]);
+        }
+        case(&d, &args, 2, "pipe.obj: not a regular file");
+    }
+}
+
+#[test]
+fn implausible_units_and_sizes_are_refused_with_the_unit_that_fits() {
+    let d = scratch("units");
+    let mm = write(&d, "mm.obj", &scaled_body(1000.0, 0.0));
+    case(&d, &["reconstruct", &mm], 2, "which in --units m is 1.6692e3 m: not a human body's height (0.4-2.6 m); with --units mm it is 1.67 m tall");
+    case(&d, &["measure", &mm], 2, "with --unit mm it is 1.67 m tall");
+    case(
+        &d,
+        &["plot-sections", &mm, "-o", "p.svg"],
+        2,
+        "--units` mm it is 1.67 m tall",
+    );
+    case(&d, &["reconstruct", &mm, "--units", "mm"], 0, "");
+    case(
+        &d,
+        &["reconstruct", BODY, "--units", "mm"],
+        2,
+        "with --units m it is 1.67 m tall",
+    );
+    case(
+        &d,
+        &["reconstruct", BODY, "--units", "cm"],
+        2,
+        "with --units m it is 1.67 m tall",
+    );
+    let huge = write(&d, "huge.obj", &scaled_body(1e20, 0.0));
+    case(
+        &d,
+        &["reconstruct", &huge],
+        2,
+        "no unit (m, cm, mm) makes it a human size",
+    );
+    let tiny = write(&d, "tiny.obj", &scaled_body(1e-9, 0.0));
+    case(
+        &d,
+        &["measure", &tiny, "--direct"],
+        2,
+        "no unit (m, cm, mm)",
+    );
+}
+
+#[test]
+fn two_people_in_one_file_are_refused() {
+    let d = scratch("two");
+    let one = scaled_body(1.0, 0.0);
+    let verts = one.lines().filter(|l| l.starts_with("v ")).count();
+    let second = scaled_body(1.0, 2.0);
+    let mut text = one.clone();
+    text.push_str(
+        &second
+            .lines()
+            .filter(|l| l.starts_with("v "))
+            .map(|l| format!("{l}\n"))
+            .collect::<String>(),
+    );
+    for l in second.lines().filter(|l| l.starts_with("f ")) {
+        let shifted: Vec<String> = l[2..]
+            .split_whitespace()
+            .map(|c| {
+                let mut parts = c.split('/');
+                let v: usize = parts.next().unwrap().parse().unwrap();
+                std::iter::once((v + verts).to_string())
+                    .chain(parts.map(String::from))
+                    .collect::<Vec<_>>()
+                    .join("/")
+            })
+            .collect();
+        text.push_str(&format!("f {}\n", shifted.join(" ")));
+    }
+    let two = write(&d, "two.obj", &text);
+    case(
+        &d,
+        &["reconstruct", &two],
+        2,
+        "the input holds 2 separate bodies (connected pieces 1.73 m, 1.73 m across)",
+    );
+    case(&d, &["measure", &two], 2, "2 separate bodies");
+    // Their virtual scan: two clouds.
+    case(
+        &d,
+        &["scan", &two, "-o", "two.ply", "--points", "60000"],
+        0,
+        "",
+    );
+    case(&d, &["reconstruct", "two.ply"], 2, "2 separate bodies");
+}
+
+#[test]
+fn model_files_with_absurd_values_are_refused() {
+    let d = scratch("model");
+    case(&d, &["reconstruct", "-o", "m.json"], 0, "");
+    let text = std::fs::read_to_string(d.join("m.json")).unwrap();
+    let model: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let mut dome = model.clone();
+    dome["parts"][1]["caps"]["end"]["relative_height"] = serde_json::json!(1e300);
+    let dome = write(&d, "dome.json", &dome.to_string());
+    case(
+        &d,
+        &["mesh", &dome, "-o", "d.obj"],
+        2,
+        "dome relative_height 1e300 must lie in (0, 100]",
+    );
+    case(&d, &["measure", &dome], 2, "relative_height");
+    let mut far = model.clone();
+    far["parts"][0]["sections"][0]["frame"]["origin"][0] = serde_json::json!(1e200);
+    let far = write(&d, "far.json", &far.to_string());
+    case(
+        &d,
+        &["mesh", &far, "-o", "f.obj"],
+        2,
+        "not a finite number of magnitude at most 1e9",
+    );
+    let mut fat = model;
+    fat["parts"][0]["sections"][0]["a"][0] = serde_json::json!(-3e12);
+    let fat = write(&d, "fat.json", &fat.to_string());
+    case(&d, &["render", &fat, "-o", "f.png"], 2, "-3000000000000");
+    assert!(!d.join("d.obj").exists() && !d.join("f.obj").exists());
+}
+
+#[test]
+fn outputs_never_replace_inputs_or_each_other() {
+    let d = scratch("files");
+    std::fs::copy(BODY, d.join("in.obj")).unwrap();
+    let original = std::fs::read(d.join("in.obj")).unwrap();
+    case(&d, &["reconstruct", "-o", "m.json"], 0, "");
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["reconstruct", "in.obj", "--mesh", "link.obj", "--force"],
+            "link.obj",
+        ),
+        (
+            &[
+                "scan", "in.obj", "-o", "link.ply", "--force", "--points", "1000",
+            ],
+            "link.ply",
+        ),
+        (
+            &["reconstruct", "in.obj", "-o", "link.json", "--force"],
+            "link.json",
+        ),
+        (
+            &["sections", "in.obj", "--json", "link.json", "--force"],
+            "link.json",
+        ),
+    ];
+    for (args, link) in cases {
+        let _ = std::fs::remove_file(d.join(link));
+        std::fs::hard_link(d.join("in.obj"), d.join(link)).unwrap();
+        case(
+            &d,
+            args,
+            2,
+            &format!("{link}: refusing to write over the input file"),
+        );
+        assert_eq!(std::fs::read(d.join("in.obj")).unwrap(), original);
+    }
+    std::fs::hard_link(d.join("m.json"), d.join("m_link.json")).unwrap();
+    case(
+        &d,
+        &["mesh", "m_link.json", "-o", "m.json", "--force"],
+        2,
+        "unknown mesh format",
+    );
+    case(
+        &d,
+        &["render", "m.json", "-o", "./m.json", "--force"],
+        2,
+        "",
+    );
+    case(
+        &d,
+        &[
+            "reconstruct",
+            "-o",
+            "a.json",
+            "--report",
+            "a.json",
+            "--force",
+        ],
+        2,
+        "-o a.json and --report a.json name the same file",
+    );
+    case(
+        &d,
+        &["reconstruct", "-o", "b.json", "--report", "./b.json"],
+        2,
+        "name the same file",
+    );
+    case(
+        &d,
+        &["sections", "in.obj", "--json", "s.svg", "--plot", "s.svg"],
+        2,
+        "name the same file",
+    );
+    assert!(!d.join("a.json").exists() && !d.join("b.json").exists());
+    // Devices are written in place, named without an extension.
+    for args in [
+        &["mesh", "m.json", "-o", "/dev/null"][..],
+        &["scan", "in.obj", "-o", "/dev/null", "--points", "1000"][..],
+        &[
+            "reconstruct",
+            "--mesh",
+            "/dev/null",
+            "-o",
+            "/dev/null",
+            "--report",
+            "/dev/null",
+        ][..],
+        &["render", "m.json", "-o", "/dev/null", "--size", "64"][..],
+        &["plot-sections", "m.json", "-o", "/dev/null"][..],
+    ] {
+        case(&d, args, 0, "");
+    }
+    // A write that fails (a full device) is exit 2 naming it.
+    if Path::new("/dev/full").exists() {
+        case(&d, &["mesh", "m.json", "-o", "/dev/full"], 2, "/dev/full");
+    }
+    // A target that cannot be replaced (a directory) survives with --force,
+    // and no temporary is left.
+    std::fs::create_dir_all(d.join("taken.obj")).unwrap();
+    let before = std::fs::read_dir(&d).unwrap().count();
+    case(
+        &d,
+        &["mesh", "m.json", "-o", "taken.obj", "--force"],
+        2,
+        "taken.obj",
+    );
+    assert!(d.join("taken.obj").is_dir());
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), before);
+}
+
+/// A writer killed at any moment leaves the old file whole (with --force)
+/// or no file (without): never a partial file under the target's name.
+#[cfg(unix)]
+#[test]
+fn a_killed_writer_leaves_the_old_file_or_none() {
+    let d = scratch("killed");
+    case(&d, &["reconstruct", "--mesh", "full.ply"], 0, "");
+    let full = std::fs::metadata(d.join("full.ply")).unwrap().len();
+    for (k, delay_ms) in [150u64, 400, 700, 1000, 1300, 1600].into_iter().enumerate() {
+        let force = k % 2 == 0;
+        let target = d.join("out.ply");
+        let _ = std::fs::remove_file(&target);
+        if force {
+            std::fs::write(&target, b"OLD").unwrap();
+        }
+        let mut args = vec!["reconstruct", "--mesh", "out.ply"];
+        if force {
+            args.push("--force");
+        }
+        let mut child = Command::new(BIN)
+            .args(&args)
+            .current_dir(&d)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(delay_ms));
+        let _ = child.kill();
+        let _ = child.wait();
+        match std::fs::read(&target) {
+            Ok(bytes) => assert!(
+                bytes == b"OLD" || bytes.len() as u64 == full,
+                "killed after {delay_ms} ms: a file of {} bytes (full: {full})",
+                bytes.len()
+            ),
+            Err(_) => assert!(!force, "killed after {delay_ms} ms: the old file is gone"),
+        }
+        // Whatever a kill leaves is hidden beside the target.
+        for e in std::fs::read_dir(&d).unwrap() {
+            let name = e.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(
+                name == "full.ply" || name == "out.ply" || name.starts_with(".out.ply.trigbody-"),
+                "{name}"
+            );
+        }
+    }
+}
+
+/// Parts of a body are no body: a model's parts are dropped, the rest
+/// tessellated (outer skin) and given back to `reconstruct`.
+#[test]
+fn a_single_limb_or_a_torso_without_head_is_refused() {
+    let d = scratch("parts");
+    case(&d, &["reconstruct", "-o", "m.json"], 0, "");
+    let text = std::fs::read_to_string(d.join("m.json")).unwrap();
+    let model: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let keep = |names: &[&str], file: &str| {
+        let mut m = model.clone();
+        let parts: Vec<serde_json::Value> = m["parts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| names.contains(&p["name"].as_str().unwrap()))
+            .cloned()
+            .collect();
+        let transitions: Vec<serde_json::Value> = m["transitions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|t| {
+                names.contains(&t["from"].as_str().unwrap())
+                    && names.contains(&t["to"].as_str().unwrap())
+            })
+            .cloned()
+            .collect();
+        m["parts"] = serde_json::Value::Array(parts);
+        m["transitions"] = serde_json::Value::Array(transitions);
+        if names.len() == 1 {
+            m["parts"][0]["caps"]["start"] = serde_json::json!({ "kind": "flat" });
+        }
+        write(&d, file, &m.to_string());
+        let obj = file.replace(".json", ".obj");
+        case(&d, &["mesh", file, "-o", &obj, "--skin", "outer"], 0, "");
+        obj
+    };
+    let arm = keep(&["left_arm"], "arm.json");
+    case(&d, &["reconstruct", &arm], 2, "not a standing body");
+    case(&d, &["measure", &arm], 2, "not a standing body");
+    let headless = keep(
+        &["torso", "left_arm", "right_arm", "left_leg", "right_leg"],
+        "headless.json",
+    );
+    case(&d, &["reconstruct", &headless], 2, "not a standing body");
+}

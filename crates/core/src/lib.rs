@@ -117,6 +117,6 @@ pub mod internals {
     }
     /// See [`crate::measure`].
     pub mod measure {
-        pub use crate::measure::{mesh, model};
+        pub use crate::measure::{mesh, model, volume};
     }
 }

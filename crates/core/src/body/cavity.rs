@@ -352,7 +352,7 @@ mod tests {
         assert!((hi - (1.55 + r)).abs() < 0.15 * r, "{hi}");
         // Its volume is the sphere's within 2 % (measured 0.7 %), and the
         // tessellation turned inside out encloses it negatively.
-        let v = crate::measure::model::volume_area_extent(&Body {
+        let v = crate::measure::volume::volume_area_extent(&Body {
             cavities: Vec::new(),
             transitions: Vec::new(),
             parts: vec![BodyPart {

@@ -3,3 +3,5 @@
 
 pub mod mesh;
 pub mod model;
+pub mod part_curves;
+pub mod volume;

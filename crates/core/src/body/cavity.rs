@@ -77,7 +77,7 @@ pub const MIN_SECTIONS: usize = 3;
 /// vanish (the dome's reach is found to `CAVITY_SPACING / 2^n`).
 pub const END_BISECTIONS: usize = 3;
 
-/// A pocket of skin inside a part (see [`crate::body`]'s cavities): its
+/// A pocket of skin inside a part (see the reconstruction's cavities): its
 /// surface is skinned through its sections and closed by domes at both
 /// ends.
 #[derive(Clone, Debug, PartialEq)]

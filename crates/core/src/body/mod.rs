@@ -172,7 +172,7 @@ pub struct ReconstructOptions {
     /// this fraction of the height from the input (a wrongly joined scan
     /// loop). Default 0.006 (1 cm on 1.73 m).
     pub max_curve_offset: Real,
-    /// Rounds of adaptive refinement (see [`refine`]). Default 3.
+    /// Rounds of adaptive refinement (see `refine`). Default 3.
     pub refine_rounds: usize,
     /// A section is added where the surface strays farther than this
     /// fraction of the height from the input halfway between two sections.

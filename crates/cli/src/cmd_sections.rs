@@ -326,7 +326,7 @@ fn loops_at(
             }
         }
     } else if let Some(s) = cloud_slicer {
-        match s.section_at(offset, &scan_opts) {
+        match s.section_at(offset, scan_opts) {
             Ok(sec) => sec
                 .loops
                 .into_iter()

@@ -31,7 +31,7 @@
 //!    ([`fit_loop`]) whose order is the smallest meeting the error
 //!    tolerances E_a and E_M (the ellipse [`EllipseFit`] is the baseline).
 //! 5. **Surfaces** (`surface`): consecutive curves skinned by Hermite
-//!    [`Patch`]es into a [`Part`] ([`Part::loft`]), closed by [`Cap`]s and
+//!    [`Patch`]es into a [`Part`] ([`Part::new`]), closed by [`Cap`]s and
 //!    joined by transitions; [`tessellate_part`] makes a mesh of it.
 //! 6. **Body** (`body`): the parts, their transitions and cavities
 //!    assembled into a [`Body`], refined where the fit is poor, and judged
@@ -88,38 +88,38 @@ pub use surface::tessellate::{
 /// of it: names and signatures here change without notice.
 #[doc(hidden)]
 pub mod internals {
-    /// See [`crate::geom`].
+    /// The `geom` layer.
     pub mod geom {
         pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes};
     }
-    /// See [`crate::spatial`].
+    /// The `spatial` layer.
     pub mod spatial {
         pub use crate::spatial::{
             cloud_clean, cloud_surface, distance, morton, point_grid, scanner, visibility,
         };
     }
-    /// See [`crate::curve`].
+    /// The `curve` layer.
     pub mod curve {
         pub use crate::curve::{ellipse, fit, lsq, order, series, trig};
     }
-    /// See [`crate::section`].
+    /// The `section` layer.
     pub mod section {
         pub use crate::section::{cloud, girth, holes, mesh};
     }
-    /// See [`crate::surface`].
+    /// The `surface` layer.
     pub mod surface {
         pub use crate::surface::{cap, part, patch, skin, tessellate, transition};
     }
-    /// See [`crate::segment`].
+    /// The `segment` layer.
     pub mod segment {
         pub use crate::segment::*;
     }
-    /// See [`crate::body`].
+    /// The `body` layer.
     pub mod body {
         pub use crate::body::*;
     }
-    /// See [`crate::measure`].
+    /// The `measure` layer.
     pub mod measure {
-        pub use crate::measure::{compare, mesh, model};
+        pub use crate::measure::{compare, mesh, model, volume};
     }
 }

@@ -13,7 +13,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
 use trigbody_core::internals::measure::mesh::girths_and_volume;
-use trigbody_core::internals::measure::model::volume_area_extent;
+use trigbody_core::internals::measure::volume::volume_area_extent;
 use trigbody_core::BodyGeometry;
 use trigbody_core::{measure_body, ModelMeasureOptions};
 use trigbody_core::{measure_mesh, MeasureOptions};

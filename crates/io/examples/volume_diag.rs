@@ -20,7 +20,7 @@
 //! soles) the mesh's loops at those heights. `CELL_MM` defaults to 1.
 
 use std::collections::BTreeMap;
-use trigbody_core::internals::measure::model::volume_area_extent;
+use trigbody_core::internals::measure::volume::volume_area_extent;
 use trigbody_core::BodyGeometry;
 use trigbody_core::{measure_body, ModelMeasureOptions};
 use trigbody_core::{reconstruct, Body, ReconstructOptions};

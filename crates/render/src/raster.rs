@@ -1156,17 +1156,14 @@ fn render(
     let k = scale * m as Real;
     for (v, (cam, &center)) in cameras.iter().zip(&centers).enumerate() {
         let proj = project(mesh, &vertex_normals, cam, center, k, w * m, h * m);
-        draw_panel(
+        let view = PanelView {
             mesh,
-            &proj,
-            &shader,
+            proj: &proj,
+            shader: &shader,
             m,
             background,
-            &encoder,
-            &mut image,
-            v * w,
-            (w, h),
-        );
+        };
+        draw_panel(&view, &encoder, &mut image, v * w, (w, h));
         frames.push(ViewFrame {
             view: options.views[v].clone(),
             left: (v * w) as u32,
@@ -1209,6 +1206,17 @@ fn render(
     Ok(Render { image, frames })
 }
 
+/// What one panel draws: the mesh, its projection into the view, the
+/// shading, the samples per pixel side `m` and the background colour.
+#[derive(Clone, Copy)]
+struct PanelView<'a> {
+    mesh: &'a Mesh,
+    proj: &'a Projected,
+    shader: &'a Shader<'a>,
+    m: usize,
+    background: [f32; 3],
+}
+
 /// Draws one view into the panel of `image` at column `left`: bins the
 /// triangles, then for each tile clears a small z-buffer, rasterizes the
 /// tile's triangles (step 3) and averages each pixel's samples (step 5).
@@ -1216,16 +1224,13 @@ fn render(
 /// order and owns its pixels, so the picture is the same for any number
 /// of threads.
 fn draw_panel(
-    mesh: &Mesh,
-    proj: &Projected,
-    shader: &Shader<'_>,
-    m: usize,
-    background: [f32; 3],
+    view: &PanelView<'_>,
     encoder: &SrgbEncoder,
     image: &mut RgbImage,
     left: usize,
     (w, h): (usize, usize),
 ) {
+    let PanelView { mesh, proj, m, .. } = *view;
     let (grid_w, grid_h) = (w * m, h * m);
     let tile = TILE * m;
     let bins = bin(mesh, proj, grid_w, grid_h, tile);
@@ -1255,8 +1260,7 @@ fn draw_panel(
                     let row = &mut strip[py * stride..(py + 1) * stride];
                     for px in 0..width / m {
                         let (x, y) = (x0 / m + px, y0 / m + py);
-                        if let Some(c) = resolve_pixel(mesh, proj, &t, shader, m, background, x, y)
-                        {
+                        if let Some(c) = resolve_pixel(view, &t, x, y) {
                             let o = 3 * (left + x);
                             row[o] = encoder.encode(c[0]);
                             row[o + 1] = encoder.encode(c[1]);
@@ -1272,16 +1276,14 @@ fn draw_panel(
 /// `tile`, or `None` where no sample hit the mesh (the background is
 /// already there).
 #[inline]
-fn resolve_pixel(
-    mesh: &Mesh,
-    proj: &Projected,
-    tile: &Tile<'_>,
-    shader: &Shader<'_>,
-    m: usize,
-    background: [f32; 3],
-    x: usize,
-    y: usize,
-) -> Option<[f32; 3]> {
+fn resolve_pixel(view: &PanelView<'_>, tile: &Tile<'_>, x: usize, y: usize) -> Option<[f32; 3]> {
+    let PanelView {
+        mesh,
+        proj,
+        shader,
+        m,
+        background,
+    } = *view;
     let sample = |i: usize, j: usize| (y * m + j - tile.y0) * tile.width + x * m + i - tile.x0;
     let first = tile.cells[sample(0, 0)].triangle;
     // A pixel covered by one continuous surface (no background sample,

@@ -77,7 +77,7 @@ pub const MIN_SECTIONS: usize = 3;
 /// vanish (the dome's reach is found to `CAVITY_SPACING / 2^n`).
 pub const END_BISECTIONS: usize = 3;
 
-/// A pocket of skin inside a part (see [`crate::body`]'s cavities): its
+/// A pocket of skin inside a part (see the reconstruction's cavities): its
 /// surface is skinned through its sections and closed by domes at both
 /// ends.
 #[derive(Clone, Debug, PartialEq)]
@@ -352,7 +352,7 @@ mod tests {
         assert!((hi - (1.55 + r)).abs() < 0.15 * r, "{hi}");
         // Its volume is the sphere's within 2 % (measured 0.7 %), and the
         // tessellation turned inside out encloses it negatively.
-        let v = crate::measure::model::volume_area_extent(&Body {
+        let v = crate::measure::volume::volume_area_extent(&Body {
             cavities: Vec::new(),
             transitions: Vec::new(),
             parts: vec![BodyPart {

@@ -174,7 +174,7 @@ pub struct ReconstructOptions {
     /// this fraction of the height from the input (a wrongly joined scan
     /// loop). Default 0.006 (1 cm on 1.73 m).
     pub max_curve_offset: Real,
-    /// Rounds of adaptive refinement (see [`refine`]). Default 3.
+    /// Rounds of adaptive refinement (see `refine`). Default 3.
     pub refine_rounds: usize,
     /// A section is added where the surface strays farther than this
     /// fraction of the height from the input halfway between two sections.
@@ -1057,11 +1057,9 @@ fn transition_rms(t: &Transition, input: &InputDistance) -> Real {
 }
 
 /// The largest RMS distance (fraction of the height, [`transition_rms`])
-/// from an arm's side transition to the input that is kept. Measured: 0.9-
-/// 2.5 mm on the shared meshes and their virtual scans, 2.8-3.4 mm on the
-/// external scan; 8.2 and 10.1 mm on the virtual scan of the built-in body
-/// with its legs spread 8° (pose_variants), where the arms' first sections
-/// fold the transitions over the shoulders.
+/// from an arm's side transition to the input that is kept: good
+/// transitions lie well under it, ones folded over the shoulders (arms
+/// whose first sections are poor) far over it.
 const ARM_TRANSITION_LIMIT: Real = 0.003;
 
 /// The torso's last and the head's first section closer than this

@@ -229,37 +229,23 @@ pub(super) fn torso_without_arms(
 /// How far past the shoulder's side plane (vertical, through the armpit)
 /// a torso loop above a hanging arm's armpit reaches (fraction of the
 /// height), from [`SIDE_RAMP`] above the armpit (less below it, in
-/// proportion). Measured with `reconstruct_table` (rms / p95 / coverage;
-/// male mesh, then the base virtual scan and the external scan):
-/// 0.002: 2.78 / 2.38 / 97.39 %, 2.79 / 4.85 / 97.51 %, 3.72 / 7.30 /
-/// 97.56 %; 0.005: 2.77 / 2.36 / 97.40 %, 2.73 / 4.59 / 97.93 %, 3.69 /
-/// 7.05 / 97.77 %; 0.01: 2.77 / 2.19 / 97.42 %, 2.77 / 4.62 / 98.49 %,
-/// 3.65 / 6.53 / 98.11 %; 0.015: 2.78 / 2.19 / 97.41 %, 2.77 / 4.64 /
-/// 98.52 %, 3.65 / 6.55 / 98.19 %; 0.02 and 0.03 within 0.1 mm and 0.1
-/// points of 0.015 (all without the ramp). Too close, the torso's
-/// straight side shows above a transition that sags over the shoulder
-/// (the base virtual scan's shoulder tops left uncovered).
+/// proportion). Too close, the torso's straight side shows above a
+/// transition that sags over the shoulder; from 0.01 on the results hardly
+/// move.
 pub(super) const SIDE_OVERLAP: Real = 0.015;
 
 /// Height above the armpit (fraction of the height) over which a torso
 /// loop's reach past the side plane grows from nothing to
-/// [`SIDE_OVERLAP`]. Without it the loop just above the armpit reached
-/// 0.015 H past the plane and the one just below not at all: the skin
-/// stepped between them and a line ran across chest and back. Measured
-/// (same table): 0.01 H and 0.02 H both removed the line; 0.02 H: male
-/// mesh 2.76 / 2.19 / 97.40 %, base virtual scan 2.76 / 4.53 / 98.56 %,
-/// external scan 3.64 / 6.38 / 98.30 % (0.01 H: 2.77 / 2.18 / 97.42 %,
-/// 2.77 / 4.61 / 98.54 %, 3.64 / 6.45 / 98.24 %).
+/// [`SIDE_OVERLAP`]. Without it the loop just above the armpit reached past
+/// the plane and the one just below not at all: the skin stepped between
+/// them and a line ran across chest and back.
 pub(super) const SIDE_RAMP: Real = 0.02;
 
 /// How far below a side arm's armpit (fraction of the height) the torso's
 /// loops are clipped at the side plane itself. A scan's armpit landmark
-/// is a slab's height: on the male virtual scan the torso's loop 0.0016 H
-/// below the right armpit still held part of the arm (its side at
-/// −227 mm against −172 mm on the left), and the skin stepped across
-/// chest and back there. Measured at 0.003 and 0.006 H: that scan 2.60 /
-/// 4.47 → 2.58 / 4.26 mm, the six other inputs unchanged. The trunk lies
-/// inside the plane just below the armpit (the plane passes through it).
+/// is a slab's height: a torso loop just below it can still hold part of
+/// the arm. The trunk lies inside the plane just below the armpit (the
+/// plane passes through it).
 pub(super) const SIDE_BELOW: Real = 0.005;
 
 /// Which hanging arms end on the torso's side through a transition (left,
@@ -305,11 +291,8 @@ pub(super) struct HangingShoulder {
 
 /// The cosine of the largest angle from straight down (about 66°) of an
 /// arm that hangs (its transition ends on the torso's side,
-/// [`HangingShoulder`]). Measured (pose_variants): at 0.5 (60°) the
-/// shorter-and-wider mesh's arms (between 60° and 66°) kept the overlap,
-/// 2.98 / 2.31 mm / 97.23 %, at 0.4 they take transitions, 3.01 / 2.26 mm
-/// / 97.24 % and 0.3 points fewer parameters; the T-pose's arms (about
-/// 90°) are held out either way.
+/// [`HangingShoulder`]): arms of a wide body lie between 60° and 66° and
+/// take transitions; a T-pose's arms (about 90°) are held out.
 pub(super) const HANGING: Real = 0.4;
 
 /// The shoulder of a hanging arm (`None` for another part, an arm held
@@ -337,24 +320,9 @@ pub(super) fn hanging_shoulder(seg: &Segmentation, arm: PartName) -> Option<Hang
 
 /// How far past an arm's first section a torso loop above the armpit
 /// reaches (fraction of the height; the clip of [`torso_without_arms`]
-/// for an arm without a side transition). Measured before the side
-/// transitions, when every hanging arm was clipped so:
-/// Measured (`reconstruct_table`, rms / p95 in mm, male · base · female
-/// mesh, then their virtual scans and the external scan):
-///
-/// | δ | meshes | virtual scans | external |
-/// |---|---|---|---|
-/// | none | 2.80 · 2.63 · 2.03 | 2.62/4.43 · 3.02/6.17 · 2.44/4.03 | 3.73/6.89 |
-/// | 0 | 2.98 · 2.66 · 2.25 | 2.82/4.88 · 2.96/5.10 · 2.57/4.07 | 3.84/7.48 |
-/// | 0.01 | 2.77 · 2.57 · 2.01 | 2.73/4.61 · 2.96/5.35 · 2.51/4.02 | 3.77/7.17 |
-/// | 0.015 | 2.77 · 2.58 · 2.01 | 2.64/4.42 · 2.94/5.44 · 2.45/3.90 | 3.74/6.98 |
-/// | 0.02 | 2.78 · 2.59 · 2.01 | 2.63/4.45 · 2.97/5.71 · 2.44/3.99 | 3.73/6.98 |
-/// | 0.04 | 2.79 · 2.63 · 2.02 | as none | as none |
-///
-/// At 0 the straight side is the arm's first section itself, skin of both
-/// pieces; from 0.04 the clip misses the loops. 0.015 (26 mm on a 1.73 m
-/// body) keeps the flange off the arm in the renders and costs the male
-/// virtual scan 0.02 mm.
+/// for an arm without a side transition). At 0 the straight side is the
+/// arm's first section itself, skin of both pieces; from 0.04 the clip
+/// misses the loops; 0.015 keeps the torso's flange off the arm.
 pub(super) const SHOULDER_OVERLAP: Real = 0.015;
 
 /// [`fit_loop`], untangling a loop that crosses itself: where edges `i`
@@ -800,11 +768,8 @@ fn cap_error(cap: &Cap, input: &InputDistance) -> Real {
 /// built-in body: hands 28 mm p95). Tries the part without its last 1-3
 /// sections (at least four kept) and returns `(k, before, after)` for the
 /// best when it strays under 0.7 times as much, both ways ([`end_error`]).
-/// Measured, not guessed: a good end is kept. (Measured on the shared
-/// bodies: 0.7 improved the male virtual scan in RMS, p95 and coverage and
-/// changed no other input; 0.85 cost that scan coverage, 97.80 ->
-/// 97.74 %; the dome's model -> input distance alone, without the input's
-/// way back, cut the fingertips off the 0.85 x 1.1 scan, 97.14 -> 96.85 %.)
+/// The end is measured against the input both ways, so a good end is kept
+/// (one way alone, model -> input, cuts fingertips off).
 fn better_end(
     cuts: &[Cut],
     part: &Part,
@@ -887,11 +852,9 @@ const DOME_FULLNESS: [Real; 2] = [1.5, 2.0];
 /// quarter circle leaves the outer fingertips bare (the male mesh: 455 of
 /// 60 000 input samples uncovered at 0.55 H, most of them fingertips); and
 /// where the last hand loops' centres drift with the thumb and fingers,
-/// the end tangent tilts (measured on the shared meshes: the plain dome's
-/// apex 49-55 mm from the hand tip, 60-67 mm off the last section's
-/// normal). Hands only: a head's crown is round (and a scan's crown
-/// unobserved), a sole's dome shallow. Measured on the shared bodies
-/// (`reconstruct_real`, docs/reconstruct.md "Mitten end").
+/// the end tangent tilts (the plain dome's apex can lie centimetres from
+/// the hand tip). Hands only: a head's crown is round (and a scan's crown
+/// unobserved), a sole's dome shallow.
 fn shaped_end(
     cuts: &[Cut],
     tip: Option<Point3>,

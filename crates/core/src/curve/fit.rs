@@ -3,8 +3,7 @@
 //! parameter values, least squares, order choice and the ellipse baseline.
 //!
 //! ```
-//! use trigbody_core::fit::{fit_loop_2d, FitOptions};
-//! use trigbody_core::Vec2;
+//! use trigbody_core::{fit_loop_2d, FitOptions, Vec2};
 //! // 64 points on a circle of radius 2: order 1 fits it exactly.
 //! let pts: Vec<Vec2> = (0..64)
 //!     .map(|i| {

@@ -250,6 +250,7 @@ impl_ops!(Vec2, x, y);
 impl_ops!(Vec3, x, y, z);
 
 /// Asserts that two reals agree within an absolute tolerance, printing both.
+#[doc(hidden)]
 #[macro_export]
 macro_rules! assert_near {
     ($a:expr, $b:expr, $tol:expr) => {{

@@ -4,3 +4,5 @@
 pub mod compare;
 pub mod mesh;
 pub mod model;
+pub mod part_curves;
+pub mod volume;

@@ -13,7 +13,7 @@ use crate::section::cloud::height_key;
 ///
 /// The points are sorted by `x`, then `y`, in IEEE total order: as one
 /// integer key each (the two coordinates' order-preserving bits,
-/// [`height_key`], `x` in the high half), sorted unstably and decoded
+/// `height_key`, `x` in the high half), sorted unstably and decoded
 /// back. Keys are equal only for bitwise-equal points, so this is the
 /// order of a stable sort by `(x.total_cmp, y.total_cmp)`; integer
 /// comparisons are several times cheaper than the float comparator (the

@@ -374,8 +374,9 @@ pub(crate) fn select_loop(loops: &[SectionLoop], p: Point3) -> Option<usize> {
 /// [`MeshSlicer`] once instead.
 ///
 /// ```
-/// use trigbody_core::section::{section_mesh, Plane, SectionOptions};
-/// use trigbody_core::{shapes, Vec3};
+/// use trigbody_core::internals::geom::shapes;
+/// use trigbody_core::internals::section::mesh::{section_mesh, Plane, SectionOptions};
+/// use trigbody_core::Vec3;
 /// let sphere = shapes::uv_sphere(Vec3::ZERO, 1.0, 64, 128);
 /// let plane = Plane::new(Vec3::new(0.0, 0.0, 0.5), Vec3::Z).unwrap();
 /// let s = section_mesh(&sphere, &plane, &SectionOptions::default()).unwrap();

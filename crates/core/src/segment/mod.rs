@@ -8,7 +8,8 @@
 //! ```no_run
 //! # // A body mesh from any reader (`trigbody_io::read_mesh`, say).
 //! # fn load() -> trigbody_core::Mesh { trigbody_core::Mesh::default() }
-//! use trigbody_core::internals::segment::{cut_part, segment, BodyGeometry, PartName, SegmentOptions};
+//! use trigbody_core::internals::segment::cut_part;
+//! use trigbody_core::{segment, BodyGeometry, PartName, SegmentOptions};
 //! let mesh = load();
 //! let body = BodyGeometry::Mesh(&mesh);
 //! let opts = SegmentOptions::default();
@@ -1122,8 +1123,8 @@ impl Graph {
 /// Segments a standing body (see the module docs for the algorithm).
 ///
 /// ```
-/// use trigbody_core::internals::segment::{segment, BodyGeometry, SegmentError, SegmentOptions};
-/// use trigbody_core::{shapes, Vec3};
+/// use trigbody_core::internals::geom::shapes;
+/// use trigbody_core::{segment, BodyGeometry, SegmentError, SegmentOptions, Vec3};
 /// // A sphere has no long axis: a clear error, not a body.
 /// let ball = shapes::uv_sphere(Vec3::ZERO, 1.0, 32, 64);
 /// let err = segment(BodyGeometry::Mesh(&ball), &SegmentOptions::default()).unwrap_err();

@@ -118,8 +118,8 @@ pub struct VirtualScan {
 /// Scans `mesh` as a ring of cameras would (see the module docs).
 ///
 /// ```
-/// use trigbody_core::scanner::{virtual_scan, ScannerOptions};
-/// use trigbody_core::{shapes, Vec3};
+/// use trigbody_core::internals::geom::shapes;
+/// use trigbody_core::{virtual_scan, ScannerOptions};
 /// let body = shapes::stick_body(1);
 /// let opts = ScannerOptions { points: 2000, resolution: 256, ..Default::default() };
 /// let scan = virtual_scan(&body, &opts).unwrap();

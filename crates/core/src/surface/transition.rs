@@ -337,15 +337,15 @@ const SIDE_AROUND: usize = 128;
 
 /// The boundary on a part's side ([`SideCut`]): the part's surface
 /// `t(s, v)` cut by the plane `(x − q)·n = 0`, as the zero contour of
-/// `f(s, v) = (t(s, v) − q)·n` on a grid of [`SIDE_ROWS`] rows along the
-/// part (only the patches that come near the plane) by [`SIDE_AROUND`]
+/// `f(s, v) = (t(s, v) − q)·n` on a grid of `SIDE_ROWS` rows along the
+/// part (only the patches that come near the plane) by `SIDE_AROUND`
 /// columns (marching squares, periodic in `v`; a saddle cell is split by
 /// the sign of its mean). Of the closed contours, the smallest one whose
 /// projection on the plane encloses `q` is the curve. Its tangent field
 /// is the surface's direction across the curve, `τ = (t_s × t_v) × c'`
 /// (`c'` the contour's direction), unit, pointing into the part (against
 /// `n`): the transition leaves the part along its own surface (G1). Both
-/// are fitted like a seam's half-loop ([`fit_closed`]).
+/// are fitted like a seam's half-loop (`fit_closed`).
 pub fn side_cut_loop(
     part: &Part,
     cut: &SideCut,

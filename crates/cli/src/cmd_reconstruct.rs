@@ -40,12 +40,15 @@ pub struct ReconstructArgs {
     /// The model file to write (JSON, model format version 5).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// A mesh of the model's surface: .glb (one node per part), .obj, .ply, .stl.
+    /// A mesh of the model's surface: .glb, .obj, .ply, .stl (one closed
+    /// surface by default; with --skin whole or outer, a .glb has one node
+    /// per part).
     #[arg(long)]
     pub mesh: Option<PathBuf>,
-    /// The surface `--mesh` writes: every piece whole, or only the model's
-    /// outer skin (each piece's triangles inside another piece left out).
-    #[arg(long, value_enum, default_value_t = crate::cmd_mesh::SkinFlag::Whole)]
+    /// The surface `--mesh` writes: one closed surface (the union of the
+    /// pieces), every piece whole, or only the model's outer skin (each
+    /// piece's triangles inside another piece left out).
+    #[arg(long, value_enum, default_value_t = crate::cmd_mesh::SkinFlag::Closed)]
     pub skin: crate::cmd_mesh::SkinFlag,
     /// The report as JSON.
     #[arg(long)]
@@ -205,7 +208,8 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         let pieces = file_model
             .tessellate_pieces(&tess)
             .map_err(|e| bad(format!("{name}: {e}")))?;
-        let pieces = skin_pieces(&file_model, pieces, args.skin.into());
+        let pieces = skin_pieces(&file_model, pieces, args.skin.into())
+            .map_err(|e| bad(format!("{name}: {e}")))?;
         let ext = path
             .extension()
             .and_then(|e| e.to_str())

@@ -53,6 +53,15 @@ pub struct RenderArgs {
     /// percentile of the distances, at least 1 mm).
     #[arg(long)]
     pub max_mm: Option<f64>,
+    /// Zoom onto a region of the body: head (above the neck), hands (past
+    /// the wrists) or feet (below the ankles), found by segmenting the
+    /// drawn mesh; only its triangles there are drawn.
+    #[arg(long, value_enum, conflicts_with = "focus_box")]
+    pub focus: Option<crate::focus::FocusFlag>,
+    /// Zoom onto a box x0,y0,z0,x1,y1,z1 (the file's coordinates after
+    /// --up-axis): only the triangles whose centre lies inside are drawn.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub focus_box: Option<Vec<f64>>,
     /// Replace an existing output file (the input is never replaced).
     #[arg(long)]
     pub force: bool,
@@ -70,6 +79,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
         ..ReadOptions::default()
     };
     let mesh = load_mesh(&args.input, &read)?;
+    let name = args.input.display().to_string();
+    let mesh = match (args.focus, &args.focus_box) {
+        (Some(region), _) => crate::focus::focus_region(&mesh, region, &name)?,
+        (None, Some(corners)) => crate::focus::focus_box(&mesh, corners, &name)?,
+        (None, None) => mesh,
+    };
     let options = RenderOptions {
         width: args.size,
         height: args.size,

@@ -16,6 +16,7 @@ mod cmd_scan;
 mod cmd_sections;
 mod examples;
 mod exit;
+mod focus;
 mod output;
 mod panels;
 mod progress;

@@ -15,6 +15,7 @@
 
 pub mod body;
 pub mod cap;
+pub mod closed_skin;
 pub mod cloud_surface;
 pub mod curve;
 pub mod distance;
@@ -31,6 +32,7 @@ pub mod mesh;
 pub mod order;
 pub mod part;
 pub mod patch;
+pub mod regions;
 pub mod scan_section;
 pub mod scanner;
 pub mod section;
@@ -38,8 +40,10 @@ pub mod segment;
 pub mod series;
 pub mod shapes;
 pub mod skin;
+pub mod subdivide;
 pub mod tessellate;
 pub mod transition;
+pub mod tri_intersect;
 pub mod visibility;
 
 pub use body::{reconstruct, Body, BodyPart, ReconstructError, ReconstructOptions, Report, Units};

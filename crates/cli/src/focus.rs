@@ -17,24 +17,46 @@ pub enum FocusFlag {
     Hands,
     /// Below the ankles.
     Feet,
+    /// The body's left hand (on its left of the mid-plane).
+    LeftHand,
+    /// The body's right hand.
+    RightHand,
+    /// The body's left foot.
+    LeftFoot,
+    /// The body's right foot.
+    RightFoot,
 }
 
 /// `mesh`'s triangles whose centroid lies in `region` (the regions of
-/// [`trigbody_core::regions`], from segmenting `mesh` itself); `name`
-/// names the file in errors.
-pub fn focus_region(mesh: &Mesh, region: FocusFlag, name: &str) -> Result<Mesh> {
-    let seg = segment(BodyGeometry::Mesh(mesh), &SegmentOptions::default()).map_err(|e| {
+/// [`trigbody_core::regions`], from segmenting `body`: the drawn mesh
+/// itself, or the input a model was made from); `name` names `body`'s
+/// file in errors.
+pub fn focus_region(mesh: &Mesh, body: &Mesh, region: FocusFlag, name: &str) -> Result<Mesh> {
+    let seg = segment(BodyGeometry::Mesh(body), &SegmentOptions::default()).map_err(|e| {
         bad(format!(
-            "{name}: --focus needs a body to find its regions: {e}"
+            "{name}: --focus needs a body to find its regions ({e}); for a model, \
+             --focus-from its input mesh"
         ))
     })?;
     let regions = Regions::new(&seg);
+    use FocusFlag::*;
     let want = match region {
-        FocusFlag::Head => Region::Head,
-        FocusFlag::Hands => Region::Hands,
-        FocusFlag::Feet => Region::Feet,
+        Head => Region::Head,
+        Hands | LeftHand | RightHand => Region::Hands,
+        Feet | LeftFoot | RightFoot => Region::Feet,
     };
-    let cut = kept(mesh, |t| regions.of(centroid(mesh, t)) == want);
+    // The side of the mid-plane (through the frame's origin, normal to
+    // its left axis): +1 left, -1 right, 0 both.
+    let side = match region {
+        LeftHand | LeftFoot => 1.0,
+        RightHand | RightFoot => -1.0,
+        _ => 0.0,
+    };
+    let frame = seg.frame;
+    let cut = kept(mesh, |t| {
+        let c = centroid(mesh, t);
+        regions.of(c) == want && side * (c - frame.origin).dot(frame.left) >= 0.0
+    });
     if cut.triangles.is_empty() {
         return Err(bad(format!(
             "{name}: --focus {}: no part of the mesh lies there (the landmark was not found)",

@@ -36,9 +36,9 @@ pub enum ClosedSkinError {
     /// vertex, or its orientation is inconsistent), so it encloses nothing.
     #[error("piece {piece}: its open ends do not form loops, so it cannot be closed")]
     Unclosable { piece: usize },
-    /// The boolean refused a piece or failed (its message).
-    #[error("piece {piece}: the mesh boolean refused it ({why})")]
-    Boolean { piece: usize, why: String },
+    /// The mesh boolean refused the closed pieces or failed (its status).
+    #[error("the mesh boolean failed on the closed pieces ({why})")]
+    Boolean { why: String },
     /// Nothing to unite.
     #[error("no pieces to unite")]
     Empty,
@@ -77,7 +77,6 @@ pub fn closed_skin(solids: &[Mesh], cavities: &[Mesh]) -> Result<Mesh, ClosedSki
     match skin.status() {
         ManifoldError::NoError => Ok(without_specks(from_mesh_gl(&skin.get_mesh_gl64(-1)))),
         e => Err(ClosedSkinError::Boolean {
-            piece: solids.len() + cavities.len(),
             why: format!("{e:?}"),
         }),
     }

@@ -103,6 +103,15 @@ pub fn load_body(path: &Path, read: &ReadOptions, units: InputUnits) -> Result<L
 /// tessellated (edges about 0.3 % of the body's height for a body model,
 /// the default grid for a loft) and merged.
 pub fn drawable_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
+    drawable_surface(path, read, trigbody_io::model::Skin::Whole)
+}
+
+/// [`drawable_mesh`] with a model file's pieces trimmed to `skin`.
+pub fn drawable_surface(
+    path: &Path,
+    read: &ReadOptions,
+    skin: trigbody_io::model::Skin,
+) -> Result<Mesh> {
     if !is_model_file(path) {
         // The reader's errors name the file, line or element, and the value.
         return crate::input_file::read_mesh(path, read);
@@ -110,11 +119,13 @@ pub fn drawable_mesh(path: &Path, read: &ReadOptions) -> Result<Mesh> {
     let file = path.display();
     let model = read_model_file(path)?;
     let tess = TessellationOptions {
-        target_edge: model.body.map(|b| 0.003 * b.height),
+        target_edge: model.body.as_ref().map(|b| 0.003 * b.height),
         ..TessellationOptions::default()
     };
     let pieces = model
         .tessellate_pieces(&tess)
+        .map_err(|e| bad(format!("{file}: {e}")))?;
+    let pieces = trigbody_io::model::skin_pieces(&model, pieces, skin)
         .map_err(|e| bad(format!("{file}: {e}")))?;
     Ok(merge_pieces(&pieces))
 }

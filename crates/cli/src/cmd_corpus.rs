@@ -296,7 +296,8 @@ fn outer_skin(model: &trigbody_core::Body) -> std::result::Result<Mesh, String> 
     let pieces = file_model
         .tessellate_pieces(&tess)
         .map_err(|e| e.to_string())?;
-    Ok(merge_pieces(&skin_pieces(&file_model, pieces, Skin::Outer)))
+    let skin = skin_pieces(&file_model, pieces, Skin::Outer).map_err(|e| e.to_string())?;
+    Ok(merge_pieces(&skin))
 }
 
 fn in_mm(c: SurfaceComparison, mm: f64) -> SurfaceComparison {

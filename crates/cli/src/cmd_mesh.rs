@@ -34,9 +34,10 @@ pub struct MeshArgs {
     /// Target edge length in model units (overrides --around, --along, --cap-rings).
     #[arg(long, value_parser = crate::bounds::positive)]
     pub edge: Option<Real>,
-    /// Which surface to write: every piece whole, or only the model's
-    /// outer skin (each piece's triangles inside another piece left out).
-    #[arg(long, value_enum, default_value_t = SkinFlag::Whole)]
+    /// Which surface to write: one closed surface (the union of the
+    /// pieces), every piece whole, or only the model's outer skin (each
+    /// piece's triangles inside another piece left out).
+    #[arg(long, value_enum, default_value_t = SkinFlag::Closed)]
     pub skin: SkinFlag,
     /// Replace an existing output file.
     #[arg(long)]
@@ -46,6 +47,9 @@ pub struct MeshArgs {
 /// `--skin`: the surface an export writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum SkinFlag {
+    /// One watertight, manifold surface: the boundary of the union of the
+    /// pieces less the cavities.
+    Closed,
     /// Every piece's whole tessellation.
     Whole,
     /// The boundary of the union of the pieces.
@@ -55,6 +59,7 @@ pub enum SkinFlag {
 impl From<SkinFlag> for trigbody_io::model::Skin {
     fn from(s: SkinFlag) -> Self {
         match s {
+            SkinFlag::Closed => trigbody_io::model::Skin::Closed,
             SkinFlag::Whole => trigbody_io::model::Skin::Whole,
             SkinFlag::Outer => trigbody_io::model::Skin::Outer,
         }
@@ -85,7 +90,8 @@ pub fn run(args: MeshArgs) -> Result<()> {
     let pieces = model
         .tessellate_pieces(&options)
         .map_err(|e| bad(e.to_string()))?;
-    let pieces = skin_pieces(&model, pieces, args.skin.into());
+    let pieces =
+        skin_pieces(&model, pieces, args.skin.into()).map_err(|e| bad(format!("{file}: {e}")))?;
     if glb {
         let named: Vec<NamedMesh> = pieces
             .iter()
@@ -107,8 +113,9 @@ pub fn run(args: MeshArgs) -> Result<()> {
         (v + m.positions.len(), t + m.triangles.len())
     });
     println!(
-        "{out_name}: {} part(s), {v} vertices, {t} triangles",
-        model.parts.len()
+        "{out_name}: {} part(s) in {} piece(s), {v} vertices, {t} triangles",
+        model.parts.len(),
+        pieces.len()
     );
     Ok(())
 }

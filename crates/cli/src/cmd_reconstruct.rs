@@ -41,12 +41,15 @@ pub struct ReconstructArgs {
     /// compact binary model for a `.tbm` name (docs/model-format.md).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
-    /// A mesh of the model's surface: .glb (one node per part), .obj, .ply, .stl.
+    /// A mesh of the model's surface: .glb, .obj, .ply, .stl (one closed
+    /// surface by default; with --skin whole or outer, a .glb has one node
+    /// per part).
     #[arg(long)]
     pub mesh: Option<PathBuf>,
-    /// The surface `--mesh` writes: every piece whole, or only the model's
-    /// outer skin (each piece's triangles inside another piece left out).
-    #[arg(long, value_enum, default_value_t = crate::cmd_mesh::SkinFlag::Whole)]
+    /// The surface `--mesh` writes: one closed surface (the union of the
+    /// pieces), every piece whole, or only the model's outer skin (each
+    /// piece's triangles inside another piece left out).
+    #[arg(long, value_enum, default_value_t = crate::cmd_mesh::SkinFlag::Closed)]
     pub skin: crate::cmd_mesh::SkinFlag,
     /// The report as JSON.
     #[arg(long)]
@@ -362,7 +365,8 @@ pub fn write_outputs(
         let pieces = file_model
             .tessellate_pieces(&tess)
             .map_err(|e| bad(format!("{name}: {e}")))?;
-        let pieces = skin_pieces(&file_model, pieces, outputs.skin.into());
+        let pieces = skin_pieces(&file_model, pieces, outputs.skin.into())
+            .map_err(|e| bad(format!("{name}: {e}")))?;
         let ext = output_extension(path, "glb");
         let format = Format::from_path(&std::path::Path::new("mesh").with_extension(&ext));
         if ext == "glb" {

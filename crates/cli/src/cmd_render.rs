@@ -53,6 +53,22 @@ pub struct RenderArgs {
     /// percentile of the distances, at least 1 mm).
     #[arg(long)]
     pub max_mm: Option<f64>,
+    /// Zoom onto a region of the body: head (above the neck), hands (past
+    /// the wrists), feet (below the ankles), or one of left-hand,
+    /// right-hand, left-foot, right-foot, found by segmenting the
+    /// drawn mesh (a model file's outer skin); only its triangles there
+    /// are drawn.
+    #[arg(long, value_enum, conflicts_with = "focus_box")]
+    pub focus: Option<crate::focus::FocusFlag>,
+    /// Find --focus's regions on this mesh instead of the drawn one (the
+    /// input a model was reconstructed from: a model's own surface is not
+    /// always segmented).
+    #[arg(long, requires = "focus")]
+    pub focus_from: Option<PathBuf>,
+    /// Zoom onto a box x0,y0,z0,x1,y1,z1 (the file's coordinates after
+    /// --up-axis): only the triangles whose centre lies inside are drawn.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub focus_box: Option<Vec<f64>>,
     /// Replace an existing output file (the input is never replaced).
     #[arg(long)]
     pub force: bool,
@@ -69,7 +85,27 @@ pub fn run(args: RenderArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let mesh = load_mesh(&args.input, &read)?;
+    // A model's close-up shows its outer skin (no piece's skin inside
+    // another), which is also what the regions are found on.
+    let zoomed = args.focus.is_some() || args.focus_box.is_some();
+    let mesh = if zoomed {
+        crate::body_input::drawable_surface(&args.input, &read, trigbody_io::model::Skin::Outer)?
+    } else {
+        load_mesh(&args.input, &read)?
+    };
+    let name = args.input.display().to_string();
+    let mesh = match (args.focus, &args.focus_box) {
+        (Some(region), _) => match &args.focus_from {
+            Some(path) => {
+                let body = trigbody_io::read_mesh(path, &read).map_err(bad)?;
+                let from = path.display().to_string();
+                crate::focus::focus_region(&mesh, &body, region, &from)?
+            }
+            None => crate::focus::focus_region(&mesh, &mesh, region, &name)?,
+        },
+        (None, Some(corners)) => crate::focus::focus_box(&mesh, corners, &name)?,
+        (None, None) => mesh,
+    };
     let options = RenderOptions {
         width: args.size,
         height: args.size,

@@ -24,6 +24,7 @@ mod cmd_scan;
 mod cmd_sections;
 mod examples;
 mod exit;
+mod focus;
 mod input_file;
 mod output;
 mod panels;

@@ -75,12 +75,29 @@ fn built_in_body_writes_model_mesh_and_report() {
     assert!(model.contains("\"version\": 5") && model.contains("\"body\""));
     assert!(model.contains("\"cavity_of\": \"head\""));
     assert!(std::fs::metadata(d.join("m.glb")).unwrap().len() > 1000);
-    // The model file is read back by `trigbody mesh`.
+    // The model file is read back by `trigbody mesh`; `--mesh` and
+    // `mesh` write one closed surface by default (the outer shell and the
+    // mouth's void), checked independently of how it was made.
     trigbody()
         .current_dir(&d)
         .args(["mesh", "m.json", "-o", "again.obj"])
         .assert()
         .success();
+    let closed = trigbody_io::read_mesh(d.join("again.obj"), &Default::default()).unwrap();
+    let check = trigbody_core::internals::surface::closed_skin::check_closed(&closed);
+    assert_eq!(
+        (
+            check.bad_edges,
+            check.misoriented_edges,
+            check.intersecting_pairs
+        ),
+        (0, 0, 0),
+        "{check:?}"
+    );
+    assert_eq!(check.components, 2, "{check:?}");
+    let glb = std::fs::read(d.join("m.glb")).unwrap();
+    let nodes = String::from_utf8_lossy(&glb).matches("\"mesh\":").count();
+    assert_eq!(nodes, 1, "one node, the closed skin");
     // The report's interior share is between 0 and 1, and `--skin outer`
     // writes that much less of the surface (same tessellation edge).
     let share = report["interior_area_share"].as_f64().unwrap();
@@ -102,6 +119,7 @@ fn built_in_body_writes_model_mesh_and_report() {
     trigbody()
         .current_dir(&d)
         .args(["mesh", "m.json", "-o", "whole.obj", "--edge", "0.005"])
+        .args(["--skin", "whole"])
         .assert()
         .success();
     let read = |f: &str| trigbody_io::read_mesh(d.join(f), &Default::default()).unwrap();

@@ -152,3 +152,69 @@ fn bad_input_exits_2_naming_the_file_or_value() {
     fails_with_bad_input(&["render", mesh, "-o", "picture.jpg"], "picture.jpg");
     assert!(!Path::new(out).exists());
 }
+
+/// `--focus head` on the built-in body draws only the head (fewer
+/// triangles than the whole body, every one above the neck); a box that
+/// holds nothing, a box that is not one, and a cylinder with no body to
+/// find regions on are refused with exit 2.
+#[test]
+fn focus_zooms_onto_a_region_or_a_box() {
+    let dir = scratch("render_focus");
+    let body = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/bodies/mh_male.obj");
+    let out = dir.join("head.png");
+    let stdout = trigbody()
+        .args(["render", body, "-o", out.to_str().unwrap()])
+        .args(["--size", "64", "--focus", "head"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let stdout = String::from_utf8_lossy(&stdout);
+    let drawn: usize = stdout
+        .split(": ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    let whole = trigbody_io::read_mesh(body, &Default::default()).unwrap();
+    assert!(
+        drawn > 1000 && drawn < whole.triangles.len() / 2,
+        "{stdout}"
+    );
+    // The top fifth of the body's box.
+    let b = whole.bounds().unwrap();
+    let y0 = b.max.y - 0.2 * (b.max.y - b.min.y);
+    let corners = format!(
+        "--focus-box={},{y0},{},{},{},{}",
+        b.min.x, b.min.z, b.max.x, b.max.y, b.max.z
+    );
+    let boxed = dir.join("box.png");
+    trigbody()
+        .args(["render", body, "-o", boxed.to_str().unwrap()])
+        .args(["--size", "64", &corners])
+        .assert()
+        .success();
+    let out = dir.join("bad.png");
+    let out = out.to_str().unwrap();
+    fails_with_bad_input(
+        &["render", body, "-o", out, "--focus-box=5,5,5,6,6,6"],
+        "no triangle lies in the box",
+    );
+    fails_with_bad_input(
+        &["render", body, "-o", out, "--focus-box=1,1,1,0,0,0"],
+        "is not a box",
+    );
+    let cylinder = write(&dir, "cylinder.obj", &cylinder_obj(false));
+    fails_with_bad_input(
+        &[
+            "render",
+            cylinder.to_str().unwrap(),
+            "-o",
+            out,
+            "--focus",
+            "feet",
+        ],
+        "--focus needs a body",
+    );
+}

@@ -77,6 +77,7 @@ pub use segment::{segment, SegmentError, SegmentOptions, Segmentation};
 pub use spatial::cloud_clean::{clean_cloud, CleanOptions, CleanReport};
 pub use spatial::scanner::{virtual_scan, ScannerOptions};
 pub use surface::cap::{Cap, CapKind, DomeAxis};
+pub use surface::closed_skin::{check_closed, closed_skin, ClosedSkinError};
 pub use surface::part::{Part, PartError, PartOptions, Segment, Skinning};
 pub use surface::patch::{EndConditions, Patch, PatchError};
 pub use surface::tessellate::{
@@ -90,12 +91,13 @@ pub use surface::tessellate::{
 pub mod internals {
     /// The `geom` layer.
     pub mod geom {
-        pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes};
+        pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes, subdivide};
     }
     /// The `spatial` layer.
     pub mod spatial {
         pub use crate::spatial::{
-            cloud_clean, cloud_surface, distance, morton, point_grid, scanner, visibility,
+            cloud_clean, cloud_surface, distance, morton, point_grid, scanner, tri_intersect,
+            visibility,
         };
     }
     /// The `curve` layer.
@@ -108,7 +110,7 @@ pub mod internals {
     }
     /// The `surface` layer.
     pub mod surface {
-        pub use crate::surface::{cap, part, patch, skin, tessellate, transition};
+        pub use crate::surface::{cap, closed_skin, part, patch, skin, tessellate, transition};
     }
     /// The `segment` layer.
     pub mod segment {
@@ -120,6 +122,6 @@ pub mod internals {
     }
     /// The `measure` layer.
     pub mod measure {
-        pub use crate::measure::{compare, mesh, model, volume};
+        pub use crate::measure::{compare, mesh, model, regions, volume};
     }
 }

@@ -156,9 +156,13 @@ impl Model {
 /// Which surface an export writes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Skin {
+    /// One closed surface ([`trigbody_core::closed_skin`]): the boundary of
+    /// the union of the pieces less the cavities, watertight, manifold and
+    /// consistently oriented, as one piece named `skin`.
+    #[default]
+    Closed,
     /// Every piece's whole tessellation (where pieces overlap, the skin of
     /// one runs on inside the other).
-    #[default]
     Whole,
     /// The outer skin ([`trigbody_core::internals::surface::skin`]): each piece's triangles
     /// inside another piece left out.
@@ -169,9 +173,15 @@ pub enum Skin {
 /// [`Skin::Outer`], with the depth tolerance 0.0003 × the body's height
 /// (the report's, [`trigbody_core::ReconstructOptions::skin_depth`]),
 /// or × the pieces' bounding-box diagonal for a model without a body.
-pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Vec<(String, Mesh)> {
+/// For [`Skin::Closed`], the one closed piece, or why it could not be made
+/// (a piece whose open ends do not form loops).
+pub fn skin_pieces(
+    model: &Model,
+    pieces: Vec<(String, Mesh)>,
+    skin: Skin,
+) -> Result<Vec<(String, Mesh)>, trigbody_core::internals::surface::closed_skin::ClosedSkinError> {
     if skin == Skin::Whole {
-        return pieces;
+        return Ok(pieces);
     }
     let scale = model.body.as_ref().map(|b| b.height).unwrap_or_else(|| {
         trigbody_core::Aabb::from_points(pieces.iter().flat_map(|(_, m)| &m.positions))
@@ -186,9 +196,22 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
             .iter()
             .any(|p| p.name == name && p.cavity_of.is_some())
     };
-    // The solid pieces moved out in order, trimmed, and put back.
+    if skin == Skin::Closed {
+        let (mut solids, mut cavities) = (Vec::new(), Vec::new());
+        for (name, mesh) in pieces {
+            if cavity(&name) {
+                cavities.push(mesh);
+            } else {
+                solids.push(mesh);
+            }
+        }
+        let closed =
+            trigbody_core::internals::surface::closed_skin::closed_skin(&solids, &cavities)?;
+        return Ok(vec![("skin".to_string(), closed)]);
+    }
     let (names, mut meshes): (Vec<String>, Vec<Mesh>) = pieces.into_iter().unzip();
     let solid: Vec<usize> = (0..names.len()).filter(|&i| !cavity(&names[i])).collect();
+    // The solid pieces moved out in order, trimmed, and put back.
     let solids: Vec<Mesh> = solid
         .iter()
         .map(|&i| std::mem::take(&mut meshes[i]))
@@ -202,7 +225,7 @@ pub fn skin_pieces(model: &Model, pieces: Vec<(String, Mesh)>, skin: Skin) -> Ve
     {
         meshes[i] = trimmed;
     }
-    names.into_iter().zip(meshes).collect()
+    Ok(names.into_iter().zip(meshes).collect())
 }
 
 /// The pieces of [`Model::tessellate_pieces`] in one mesh (indices

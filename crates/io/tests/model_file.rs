@@ -421,7 +421,7 @@ fn cavities_round_trip_face_inward_and_must_name_their_part() {
     assert!(cavity.signed_volume() < 0.0, "{}", cavity.signed_volume());
     assert!(host_mesh.signed_volume() > 0.0);
     // The outer skin keeps the whole cavity (it lies inside its host).
-    let outer = skin_pieces(&m, pieces.clone(), Skin::Outer);
+    let outer = skin_pieces(&m, pieces.clone(), Skin::Outer).unwrap();
     let kept = outer.iter().find(|(n, _)| n == "leg_left_cavity").unwrap();
     assert_eq!(kept.1.triangles.len(), cavity.triangles.len());
     // A cavity of a part the model does not have is refused, naming it.

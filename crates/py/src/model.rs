@@ -137,7 +137,8 @@ impl Model {
 
     /// The surface as one mesh: vertices `(N, 3)` float64 and triangles
     /// `(M, 3)` uint32, as `trigbody mesh --edge EDGE --skin SKIN` writes
-    /// it (`edge` None: the default grid; `skin` "whole" or "outer").
+    /// it (`edge` None: the default grid; `skin` "whole", "outer" or
+    /// "closed", the one closed surface `trigbody mesh` writes by default).
     #[pyo3(signature = (edge = None, skin = "whole"))]
     fn tessellate<'py>(
         &self,
@@ -148,9 +149,10 @@ impl Model {
         let skin = match skin {
             "whole" => Skin::Whole,
             "outer" => Skin::Outer,
+            "closed" => Skin::Closed,
             s => {
                 return Err(value_error(format!(
-                    "skin '{s}' is neither 'whole' nor 'outer'"
+                    "skin '{s}' is not 'whole', 'outer' or 'closed'"
                 )))
             }
         };
@@ -166,7 +168,8 @@ impl Model {
                 .inner
                 .tessellate_pieces(&options)
                 .map_err(|e| e.to_string())?;
-            Ok::<_, String>(merge_pieces(&skin_pieces(&self.inner, pieces, skin)))
+            let skinned = skin_pieces(&self.inner, pieces, skin).map_err(|e| e.to_string())?;
+            Ok::<_, String>(merge_pieces(&skinned))
         });
         let mesh = mesh.map_err(value_error)?;
         Ok((

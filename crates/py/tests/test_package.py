@@ -203,7 +203,7 @@ def read_obj(path):
 def test_tessellate_is_the_cli_mesh(cli_model, tmp_path):
     model_path, _ = cli_model
     model = trigbody.load_model(model_path)
-    run_cli("mesh", model_path, "-o", tmp_path / "m.obj", "--edge", "0.02")
+    run_cli("mesh", model_path, "-o", tmp_path / "m.obj", "--edge", "0.02", "--skin", "whole")
     v, f = model.tessellate(edge=0.02)
     assert v.dtype == np.float64 and f.dtype == np.uint32
     assert v.shape[1] == 3 and f.shape[1] == 3

@@ -8,3 +8,4 @@ pub mod mesh;
 pub mod parallel;
 pub mod rng;
 pub mod shapes;
+pub mod subdivide;

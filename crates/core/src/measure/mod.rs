@@ -5,4 +5,5 @@ pub mod compare;
 pub mod mesh;
 pub mod model;
 pub mod part_curves;
+pub mod regions;
 pub mod volume;

@@ -8,4 +8,5 @@ pub mod distance;
 pub mod morton;
 pub mod point_grid;
 pub mod scanner;
+pub mod tri_intersect;
 pub mod visibility;

@@ -3,6 +3,7 @@
 //! and the outer skin of a set of pieces.
 
 pub mod cap;
+pub mod closed_skin;
 pub mod part;
 pub mod patch;
 pub mod skin;

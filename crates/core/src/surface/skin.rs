@@ -109,7 +109,7 @@ impl OuterSkin {
 }
 
 /// `m`'s triangles `t` with `keep(t)`, their vertices (and normals) only.
-fn kept(m: &Mesh, keep: impl Fn(usize) -> bool) -> Mesh {
+pub fn kept(m: &Mesh, keep: impl Fn(usize) -> bool) -> Mesh {
     let mut index = vec![u32::MAX; m.positions.len()];
     let mut out = Mesh::default();
     let mut normals = m.normals.as_ref().map(|_| Vec::new());
@@ -617,6 +617,38 @@ fn boundary_loops(tris: &[[u32; 3]], vertices: Range<usize>) -> Option<Vec<Vec<u
 
 /// Closes `cycle` (vertices of `surface` along boundary edges) with a fan
 /// from the mean of its vertices, appended to `caps`.
+/// `m` with its open ends closed by fans (sharing the loops' vertices)
+/// from a point `bulge` × the loop's mean radius `√(A/π)` out of the
+/// loop's mean along the fan's outward normal (0: the module doc's closed
+/// surface of a piece), or `None` when its boundary edges do not form
+/// loops. A bulge makes two pieces whose open ends share a plane (a head
+/// sitting on the torso's neck section) overlap instead of touching.
+pub fn closed_piece(m: &Mesh, bulge: Real) -> Option<Mesh> {
+    let loops = boundary_loops(&m.triangles, 0..m.positions.len())?;
+    let mut out = Mesh {
+        positions: m.positions.clone(),
+        normals: None,
+        triangles: m.triangles.clone(),
+    };
+    for cycle in loops.iter().filter(|l| !l.is_empty()) {
+        let at = |k: usize| m.positions[cycle[k % cycle.len()] as usize];
+        let mean = (0..cycle.len()).fold(Vec3::ZERO, |s, k| s + at(k)) / cycle.len() as Real;
+        // The fan's area vector: its triangles run each edge backwards.
+        let area = (0..cycle.len()).fold(Vec3::ZERO, |s, k| {
+            s + (at(k + 1) - mean).cross(at(k) - mean) * 0.5
+        });
+        let radius = (area.norm() / std::f64::consts::PI).sqrt();
+        let c = out.positions.len() as u32;
+        out.positions
+            .push(mean + area.normalized().unwrap_or(Vec3::ZERO) * (bulge * radius));
+        for k in 0..cycle.len() {
+            out.triangles
+                .push([cycle[(k + 1) % cycle.len()], cycle[k], c]);
+        }
+    }
+    Some(out)
+}
+
 fn add_cap(caps: &mut Mesh, surface: &Mesh, cycle: &[u32]) {
     let base = caps.positions.len() as u32;
     let m = cycle.len() as u32;

@@ -14,7 +14,7 @@
 //! [`region_fit`] samples the input evenly by area, finds each sample's
 //! nearest point on the model (its triangle's normal there) and compares
 //! it with the normal of the input triangle it lies on. The same against a
-//! once-subdivided copy of the input ([`crate::subdivide`]) gives the
+//! once-subdivided copy of the input ([`crate::geom::subdivide`]) gives the
 //! floor: how far a smooth surface through the input already differs.
 
 use crate::anatomy::LandmarkKind;

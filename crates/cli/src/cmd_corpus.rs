@@ -17,10 +17,9 @@ use std::path::{Path, PathBuf};
 use trigbody_core::internals::spatial::distance::{DistanceStats, MeshDistance};
 use trigbody_core::{
     compare_surfaces, reconstruct, BodyGeometry, CompareOptions, Mesh, ReconstructOptions,
-    SurfaceComparison, TessellationOptions, Units, Vec3,
+    SurfaceComparison, Units, Vec3,
 };
-use trigbody_io::body_file::model_of_body;
-use trigbody_io::model::{merge_pieces, skin_pieces, Skin};
+use trigbody_io::model::{merge_pieces, Skin};
 use trigbody_io::{read_geometry, Geometry, ReadOptions};
 use trigbody_render::{render_mesh_values, RenderOptions, VertexValues, View};
 
@@ -288,16 +287,10 @@ const JOINT_LIMIT_MM: f64 = 30.0;
 
 /// The model's outer skin as `reconstruct --mesh M --skin outer` writes it.
 fn outer_skin(model: &trigbody_core::Body) -> std::result::Result<Mesh, String> {
-    let tess = TessellationOptions {
-        target_edge: Some(0.004 * model.height),
-        ..TessellationOptions::default()
-    };
-    let file_model = model_of_body(model);
-    let pieces = file_model
-        .tessellate_pieces(&tess)
-        .map_err(|e| e.to_string())?;
-    let skin = skin_pieces(&file_model, pieces, Skin::Outer).map_err(|e| e.to_string())?;
-    Ok(merge_pieces(&skin))
+    Ok(merge_pieces(&crate::cmd_reconstruct::mesh_pieces(
+        model,
+        Skin::Outer,
+    )?))
 }
 
 fn in_mm(c: SurfaceComparison, mm: f64) -> SurfaceComparison {

@@ -299,6 +299,23 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
     ))
 }
 
+/// The pieces `--mesh` writes for `model`: tessellated at edges of 0.004 ×
+/// its height, then the `skin` kept.
+pub fn mesh_pieces(
+    model: &Body,
+    skin: trigbody_io::model::Skin,
+) -> std::result::Result<Vec<(String, trigbody_core::Mesh)>, String> {
+    let tess = TessellationOptions {
+        target_edge: Some(0.004 * model.height),
+        ..TessellationOptions::default()
+    };
+    let file_model = model_of_body(model);
+    let pieces = file_model
+        .tessellate_pieces(&tess)
+        .map_err(|e| e.to_string())?;
+    skin_pieces(&file_model, pieces, skin).map_err(|e| e.to_string())
+}
+
 /// Where a reconstruction's results go (each `None` is not written).
 #[derive(Debug, Clone, Copy)]
 pub struct Outputs<'a> {
@@ -357,16 +374,8 @@ pub fn write_outputs(
         write_file(path, &bytes, inputs, outputs.force)?;
     }
     if let Some(path) = &outputs.mesh {
-        let tess = TessellationOptions {
-            target_edge: Some(0.004 * model.height),
-            ..TessellationOptions::default()
-        };
-        let file_model = model_of_body(model);
-        let pieces = file_model
-            .tessellate_pieces(&tess)
-            .map_err(|e| bad(format!("{name}: {e}")))?;
-        let pieces = skin_pieces(&file_model, pieces, outputs.skin.into())
-            .map_err(|e| bad(format!("{name}: {e}")))?;
+        let pieces =
+            mesh_pieces(model, outputs.skin.into()).map_err(|e| bad(format!("{name}: {e}")))?;
         let ext = output_extension(path, "glb");
         let format = Format::from_path(&std::path::Path::new("mesh").with_extension(&ext));
         if ext == "glb" {

@@ -324,11 +324,9 @@ fn low_band(pts: &[Point3], n: Vec3, extent: Real, bin: Real) -> Option<(Real, V
     Some((centre, sheet))
 }
 
-/// The centroid and normal of the least-squares plane through `pts`.
-fn plane_fit(pts: &[Point3]) -> Option<(Point3, Vec3)> {
-    if pts.len() < 3 {
-        return None;
-    }
+/// The centroid of `pts` (not empty) and the eigenvalues and eigenvectors
+/// of their scatter matrix.
+fn principal(pts: &[Point3]) -> (Point3, [Real; 3], [Vec3; 3]) {
     let c = pts.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / pts.len() as Real);
     let mut m = [[0.0; 3]; 3];
     for p in pts {
@@ -340,6 +338,15 @@ fn plane_fit(pts: &[Point3]) -> Option<(Point3, Vec3)> {
         }
     }
     let (vals, vecs) = symmetric_eigen3(m);
+    (c, vals, vecs)
+}
+
+/// The centroid and normal of the least-squares plane through `pts`.
+fn plane_fit(pts: &[Point3]) -> Option<(Point3, Vec3)> {
+    if pts.len() < 3 {
+        return None;
+    }
+    let (c, vals, vecs) = principal(pts);
     let k = (0..3).min_by(|&a, &b| vals[a].total_cmp(&vals[b]))?;
     Some((c, vecs[k].normalized()?))
 }
@@ -377,17 +384,7 @@ fn principal_axes(cents: &[Point3]) -> Vec<Vec3> {
     if cents.len() < 3 {
         return Vec::new();
     }
-    let c = cents.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / cents.len() as Real);
-    let mut m = [[0.0; 3]; 3];
-    for p in cents {
-        let d = (*p - c).to_array();
-        for i in 0..3 {
-            for j in 0..3 {
-                m[i][j] += d[i] * d[j];
-            }
-        }
-    }
-    let (_, vecs) = symmetric_eigen3(m);
+    let (_, _, vecs) = principal(cents);
     vecs.iter().filter_map(|v| v.normalized()).collect()
 }
 

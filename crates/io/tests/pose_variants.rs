@@ -251,7 +251,8 @@ fn re_posed_and_re_shaped_bodies_reconstruct() {
             // transition straying past its limit is left out (and the torso
             // cut again to reach into the arm), with a warning saying so.
             // Which way it goes turns on the scan's details (it flipped when
-            // 4 stray points went): every arm has one or the other.
+            // 4 points near the body were taken for strays, since kept):
+            // every arm has one or the other.
             for (arm, part) in [
                 ("left arm", PartName::LeftArm),
                 ("right arm", PartName::RightArm),

@@ -20,9 +20,10 @@
 //!    floor disc under the feet ten times that.
 //! 2. **Strays.** The remaining points are put in voxels of side
 //!    [`CleanOptions::voxel`] × `E`, 26-connected into components. The
-//!    largest component is the body; another component is kept only when it
+//!    largest component is the body; another component is kept when it
 //!    has at least [`CleanOptions::min_component`] of the largest's points
-//!    (a part cut off by a scanner hole), the rest is dropped.
+//!    or lies within three voxels of such a component (a part cut off by a
+//!    scanner hole); the rest is dropped.
 //!
 //! The result says how many points went and why, and, when a floor was
 //! found, its normal: the body's up direction.
@@ -132,17 +133,26 @@ pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, Clea
         let comps = voxels.components(&keep);
         let largest = comps.sizes.iter().copied().max().unwrap_or(0);
         let min = ((opts.min_component * largest as Real).ceil() as usize).max(1);
+        let big: Vec<bool> = comps.sizes.iter().map(|&s| s >= min).collect();
+        // A small piece close to the body stays: a bit of it that a
+        // scanner's gap cut off, not something in the room.
+        let stays = voxels.near_big(&comps, &big, NEAR_BODY);
         for (k, &c) in keep.iter_mut().zip(&comps.of_point) {
-            if *k && comps.sizes[c as usize] < min {
+            if *k && !stays[c as usize] {
                 *k = false;
                 report.stray_points += 1;
             }
         }
-        let (kept, dropped) = comps.sizes.iter().fold((0, 0), |(a, b), &s| match s {
-            0 => (a, b),
-            s if s >= min => (a + 1, b),
-            _ => (a, b + 1),
-        });
+        let (kept, dropped) =
+            comps
+                .sizes
+                .iter()
+                .zip(&stays)
+                .fold((0, 0), |(a, b), (&s, &k)| match (s, k) {
+                    (0, _) => (a, b),
+                    (_, true) => (a + 1, b),
+                    _ => (a, b + 1),
+                });
         report.kept_components = kept;
         report.stray_components = dropped;
     }
@@ -411,6 +421,9 @@ struct Voxels {
 struct Components {
     /// The component of each point (`u32::MAX` for points not kept).
     of_point: Vec<u32>,
+    /// The component of each voxel (`u32::MAX` for voxels without a kept
+    /// point).
+    of_voxel: Vec<u32>,
     /// Kept points per component.
     sizes: Vec<usize>,
 }
@@ -507,9 +520,44 @@ impl Voxels {
                 }
             })
             .collect();
-        Components { of_point, sizes }
+        Components {
+            of_point,
+            of_voxel: voxel_comp,
+            sizes,
+        }
     }
 }
+
+impl Voxels {
+    /// Per component: big, or with a voxel within `reach` voxels (in each
+    /// axis) of a big component's voxel.
+    fn near_big(&self, comps: &Components, big: &[bool], reach: i64) -> Vec<bool> {
+        let mut near = big.to_vec();
+        for (k, &c) in self.keys.iter().zip(&comps.of_voxel) {
+            if c == u32::MAX || near[c as usize] {
+                continue;
+            }
+            'search: for dx in -reach..=reach {
+                for dy in -reach..=reach {
+                    for dz in -reach..=reach {
+                        let nk = [k[0] + dx, k[1] + dy, k[2] + dz];
+                        if let Ok(j) = self.keys.binary_search(&nk) {
+                            let o = comps.of_voxel[j];
+                            if o != u32::MAX && big[o as usize] {
+                                near[c as usize] = true;
+                                break 'search;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        near
+    }
+}
+
+/// A small component within this many voxels of the body is kept.
+const NEAR_BODY: i64 = 3;
 
 /// The 13 of a voxel's 26 neighbours whose keys sort after its own.
 const NEIGHBOURS_AFTER: [[i64; 3]; 13] = [

@@ -39,6 +39,26 @@ pub fn positive(s: &str) -> Result<Real, String> {
     }
 }
 
+/// A fit tolerance `--ea`: a finite number above 0, refused with the
+/// library's own message (the Python package raises the same text).
+pub fn tolerance_ea(s: &str) -> Result<Real, String> {
+    tolerance("ea", s)
+}
+
+/// A fit tolerance `--em` (see [`tolerance_ea`]).
+pub fn tolerance_em(s: &str) -> Result<Real, String> {
+    tolerance("em", s)
+}
+
+fn tolerance(name: &'static str, s: &str) -> Result<Real, String> {
+    let value = s.trim().parse::<Real>().unwrap_or(Real::NAN);
+    if value > 0.0 && value.is_finite() {
+        Ok(value)
+    } else {
+        Err(trigbody_core::FitError::BadTolerance { name, value }.to_string())
+    }
+}
+
 /// A finite number, zero or above.
 pub fn non_negative(s: &str) -> Result<Real, String> {
     match s.trim().parse::<Real>() {

@@ -22,10 +22,10 @@ pub struct FitFlags {
     #[arg(long, default_value = "auto", value_parser = parse_order)]
     pub order: OrderChoice,
     /// Average relative error tolerance E_a (paper Eq. 12).
-    #[arg(long, default_value_t = 0.01, value_parser = crate::bounds::positive)]
+    #[arg(long, default_value_t = 0.01, value_parser = crate::bounds::tolerance_ea)]
     pub ea: Real,
     /// Maximum relative error tolerance E_M (paper Eq. 12).
-    #[arg(long, default_value_t = 0.05, value_parser = crate::bounds::positive)]
+    #[arg(long, default_value_t = 0.05, value_parser = crate::bounds::tolerance_em)]
     pub em: Real,
     /// Highest order `auto` may choose.
     #[arg(long, default_value_t = trigbody_core::internals::curve::order::DEFAULT_MAX_ORDER,

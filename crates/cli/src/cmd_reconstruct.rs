@@ -91,10 +91,10 @@ pub struct BodyFlags {
           value_parser = crate::bounds::real_in(0.002, 0.2))]
     pub spacing: Real,
     /// Average relative error tolerance E_a of every section.
-    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EA, value_parser = crate::bounds::positive)]
+    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EA, value_parser = crate::bounds::tolerance_ea)]
     pub ea: Real,
     /// Maximum relative error tolerance E_M of every section.
-    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EM, value_parser = crate::bounds::positive)]
+    #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EM, value_parser = crate::bounds::tolerance_em)]
     pub em: Real,
 }
 

@@ -223,7 +223,7 @@ fn bad_input_exits_2_with_a_clear_message() {
     refused(
         &["--ea=-1"],
         "0 0\n1 0\n0 1\n",
-        "must be a finite number above 0",
+        "invalid tolerance ea = -1: it must be a positive number",
     );
 }
 

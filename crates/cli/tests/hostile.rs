@@ -177,7 +177,7 @@ fn sections_validates_its_options_as_fit_does() {
         ),
         (
             &["--ea", "0", "--em", "0"][..],
-            "'--ea <EA>': must be a finite number above 0",
+            "'--ea <EA>': invalid tolerance ea = 0: it must be a positive number",
         ),
         (&["--reference", "0,0,0"][..], "is the zero vector"),
         (

@@ -86,8 +86,6 @@ struct Judged {
     parts: usize,
     /// Joint name, error in mm (None: not found).
     joints: Vec<(String, Option<f64>)>,
-    skin: Mesh,
-    skin_mm: Vec<f64>,
     up: Vec3,
     front: Vec3,
 }
@@ -107,10 +105,21 @@ pub fn run(args: CorpusArgs) -> Result<()> {
         )));
     }
     let mut outcomes = Vec::new();
+    // The worst skins so far (symmetric RMS, outcome, skin), for pictures:
+    // only as many as are drawn are kept.
+    let mut worst: Vec<(f64, usize, Mesh)> = Vec::new();
     for (k, case) in cases.into_iter().enumerate() {
         let started = std::time::Instant::now();
-        let result = judge(&case, &args);
+        let judged = judge(&case, &args);
         let seconds = started.elapsed().as_secs_f64();
+        let result = judged.map(|(j, skin)| {
+            if args.pictures > 0 {
+                worst.push((j.cmp.symmetric_rms, k, skin));
+                worst.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+                worst.truncate(args.pictures);
+            }
+            j
+        });
         let o = Outcome {
             case,
             result,
@@ -127,7 +136,7 @@ pub fn run(args: CorpusArgs) -> Result<()> {
         &[],
         args.force,
     )?;
-    pictures(&outcomes, &args)?;
+    pictures(&outcomes, &worst, &args)?;
     print!("{}", summary(&outcomes));
     Ok(())
 }
@@ -202,7 +211,8 @@ fn vec3(v: &Value) -> Option<Vec3> {
 }
 
 /// Reconstructs one input and judges its written outer skin.
-fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<Judged, String> {
+/// The judgement and the outer skin it judged.
+fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), String> {
     let read = |p: &Path| read_geometry(p, &ReadOptions::default()).map_err(|e| format!("{e:#}"));
     let geometry = read(&case.input)?;
     let truth = match read(&case.truth)? {
@@ -249,21 +259,15 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<Judged, String> 
             (j.to_string(), err)
         })
         .collect();
-    let skin_mm = MeshDistance::new(&truth)
-        .distances(&skin.positions)
-        .into_iter()
-        .map(|d| d * mm)
-        .collect();
-    Ok(Judged {
+    let judged = Judged {
         cmp,
         parameters: report.design_parameters,
         parts: report.parts_found.len(),
         joints,
-        skin,
-        skin_mm,
         up: model.frame.up,
         front: model.frame.front,
-    })
+    };
+    Ok((judged, skin))
 }
 
 /// The joints checked against the manifest.
@@ -472,12 +476,13 @@ fn csv(outcomes: &[Outcome]) -> String {
     s
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
+/// The median (NaN for none: a column with nothing measured).
+fn median(v: Vec<f64>) -> f64 {
     if v.is_empty() {
-        return f64::NAN;
+        f64::NAN
+    } else {
+        crate::cmd_render::percentile(&v, 0.5)
     }
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
 }
 
 fn summary(outcomes: &[Outcome]) -> String {
@@ -519,16 +524,19 @@ fn summary(outcomes: &[Outcome]) -> String {
     s
 }
 
-/// The worst inputs' outer skins coloured by their distance to the truth,
-/// front and side, one picture each.
-fn pictures(outcomes: &[Outcome], args: &CorpusArgs) -> Result<()> {
-    let mut ranked: Vec<&Outcome> = outcomes.iter().filter(|o| o.result.is_ok()).collect();
-    ranked.sort_by(|a, b| {
-        let r = |o: &Outcome| o.result.as_ref().map_or(0.0_f64, |j| j.cmp.symmetric_rms);
-        r(b).total_cmp(&r(a))
-    });
-    for (k, o) in ranked.iter().take(args.pictures).enumerate() {
+/// The worst inputs' outer skins (`worst`, worst first) coloured by their
+/// distance to the truth, front, side and back, one picture each.
+fn pictures(outcomes: &[Outcome], worst: &[(f64, usize, Mesh)], args: &CorpusArgs) -> Result<()> {
+    for (k, (_, index, skin)) in worst.iter().enumerate() {
+        let o = &outcomes[*index];
         let Ok(j) = &o.result else { continue };
+        let truth = trigbody_io::read_mesh(&o.case.truth, &ReadOptions::default()).map_err(bad)?;
+        let mm = o.case.units.to_mm();
+        let skin_mm: Vec<f64> = MeshDistance::new(&truth)
+            .distances(&skin.positions)
+            .into_iter()
+            .map(|d| d * mm)
+            .collect();
         let options = RenderOptions {
             width: 512,
             height: 512,
@@ -537,8 +545,8 @@ fn pictures(outcomes: &[Outcome], args: &CorpusArgs) -> Result<()> {
             front: j.front,
             ..RenderOptions::default()
         };
-        let values = VertexValues::new(&j.skin_mm, (0.0, 20.0), "distance to the truth (mm)");
-        let render = render_mesh_values(&j.skin, &values, &options)
+        let values = VertexValues::new(&skin_mm, (0.0, 20.0), "distance to the truth (mm)");
+        let render = render_mesh_values(skin, &values, &options)
             .with_context(|| format!("rendering {}", o.case.name))?;
         let png = render.image.to_png()?;
         let path = args

@@ -217,7 +217,7 @@ fn distances_mm(mesh: &Mesh, target: &Geometry, mm_per_unit: f64) -> Vec<f64> {
 }
 
 /// The `q`-quantile of the finite values (0 when there are none).
-fn percentile(values: &[f64], q: f64) -> f64 {
+pub(crate) fn percentile(values: &[f64], q: f64) -> f64 {
     let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
     if v.is_empty() {
         return 0.0;

@@ -57,21 +57,7 @@ pub fn check_extent(name: &str, positions: &[Point3], units: Units, flag: &str) 
 /// points along each axis: stray points of a scan (1 % of body_011's, 0.6 m
 /// beyond the body) do not count.
 fn robust_extent(positions: &[Point3]) -> Option<Real> {
-    if positions.is_empty() {
-        return None;
-    }
-    let n = positions.len();
-    let (lo, hi) = (n / 100, n - 1 - n / 100);
-    let mut side: Real = 0.0;
-    let mut v: Vec<Real> = Vec::with_capacity(n);
-    for k in 0..3 {
-        v.clear();
-        v.extend(positions.iter().map(|p| p[k]));
-        let low = *v.select_nth_unstable_by(lo, Real::total_cmp).1;
-        let high = *v.select_nth_unstable_by(hi, Real::total_cmp).1;
-        side = side.max(high - low);
-    }
-    Some(side)
+    trigbody_core::internals::geom::mesh::central_extent(positions, 100)
 }
 
 fn longest_side(b: &Aabb) -> Real {
@@ -212,30 +198,11 @@ fn cloud_component_boxes(points: &[Point3]) -> Vec<Aabb> {
         return Vec::new();
     };
     let cell = (longest_side(&b) / 60.0).max(Real::MIN_POSITIVE);
-    let key = |p: &Point3| {
-        let q = (*p - b.min) / cell;
-        (q.x as i64, q.y as i64, q.z as i64)
-    };
-    let mut cells: std::collections::HashMap<(i64, i64, i64), usize> = Default::default();
-    for p in points {
-        let n = cells.len();
-        cells.entry(key(p)).or_insert(n);
-    }
-    let mut parent: Vec<usize> = (0..cells.len()).collect();
-    for (&(x, y, z), &i) in &cells {
-        for (dx, dy, dz) in
-            (-1..=1).flat_map(|a| (-1..=1).flat_map(move |b| (-1..=1).map(move |c| (a, b, c))))
-        {
-            if let Some(&j) = cells.get(&(x + dx, y + dy, z + dz)) {
-                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                parent[b] = a;
-            }
-        }
-    }
-    let label: Vec<usize> = points
-        .iter()
-        .map(|p| root(&mut parent, cells[&key(p)]))
-        .collect();
+    let label: Vec<usize> =
+        trigbody_core::internals::spatial::cloud_clean::voxel_components(points, b.min, cell)
+            .into_iter()
+            .map(|c| c as usize)
+            .collect();
     component_boxes(points, &label)
 }
 

@@ -479,30 +479,28 @@ pub fn reconstruct_with_progress(
         });
         done += 1;
     };
-    let (cleaned, cleaning) = match body {
-        BodyGeometry::Cloud(cloud) => {
-            let copts = CleanOptions {
+    // A scan's floor and strays go first; a floor found gives `up`.
+    let cleaned = match body {
+        BodyGeometry::Cloud(cloud) => Some(clean_cloud(
+            cloud,
+            &CleanOptions {
                 up: opts.segment.up,
                 ..opts.clean
-            };
-            let (c, r) = clean_cloud(cloud, &copts);
-            (Some(c), Some(r))
-        }
-        BodyGeometry::Mesh(_) => (None, None),
+            },
+        )),
+        BodyGeometry::Mesh(_) => None,
     };
     let mut opts = *opts;
-    let body = match (&cleaned, &cleaning) {
-        (Some(c), Some(r)) => {
-            if opts.segment.up.is_none() {
-                opts.segment.up = r.floor_normal;
-            }
-            BodyGeometry::Cloud(c)
+    let body = match &cleaned {
+        Some((cloud, cleaning)) => {
+            opts.segment.up = opts.segment.up.or(cleaning.floor_normal);
+            BodyGeometry::Cloud(cloud)
         }
-        _ => body,
+        None => body,
     };
     let mut result = reconstruct_steps(body, &opts, &mut progress);
-    if let (Ok((_, report)), Some(r)) = (&mut result, &cleaning) {
-        let mut w = r.warnings();
+    if let (Ok((_, report)), Some((_, cleaning))) = (&mut result, &cleaned) {
+        let mut w = cleaning.warnings();
         w.append(&mut report.warnings);
         report.warnings = w;
     }

@@ -323,6 +323,32 @@ pub(crate) fn union(a: Aabb, b: Aabb) -> Aabb {
     }
 }
 
+/// The longest side of the box that leaves out `n / tail` of the `n`
+/// finite points at either end along each axis (stray points far from the
+/// rest do not set it); `None` without finite points.
+pub fn central_extent(points: &[Point3], tail: usize) -> Option<Real> {
+    let mut v: Vec<Real> = Vec::with_capacity(points.len());
+    let mut side: Real = 0.0;
+    for axis in 0..3 {
+        v.clear();
+        v.extend(
+            points
+                .iter()
+                .filter(|p| p.is_finite())
+                .map(|p| p.to_array()[axis]),
+        );
+        if v.is_empty() {
+            return None;
+        }
+        let lo = v.len() / tail.max(1);
+        let hi = v.len() - 1 - lo;
+        let low = *v.select_nth_unstable_by(lo, Real::total_cmp).1;
+        let high = *v.select_nth_unstable_by(hi, Real::total_cmp).1;
+        side = side.max(high - low);
+    }
+    Some(side)
+}
+
 /// The pieces one after another in one mesh, and each piece's range of
 /// triangles in it (normals kept only when every piece has them). The
 /// positions and the renumbered triangles are copied side by side: most of

@@ -43,13 +43,6 @@ pub fn compare_surfaces(truth: &Mesh, model: &Mesh, opts: &CompareOptions) -> Su
     let m_samples = sample_surface(model, opts.samples);
     let to_model = MeshDistance::new(model).distances(&t_samples);
     let to_truth = MeshDistance::new(truth).distances(&m_samples);
-    let share = |d: &[Real], f: &dyn Fn(Real) -> bool| {
-        if d.is_empty() {
-            0.0
-        } else {
-            d.iter().filter(|&&x| f(x)).count() as Real / d.len() as Real
-        }
-    };
     let a = DistanceStats::of(&to_model);
     let b = DistanceStats::of(&to_truth);
     SurfaceComparison {
@@ -57,9 +50,18 @@ pub fn compare_surfaces(truth: &Mesh, model: &Mesh, opts: &CompareOptions) -> Su
         model_to_truth: b,
         symmetric_rms: ((a.rms * a.rms + b.rms * b.rms) / 2.0).sqrt(),
         p95: a.p95.max(b.p95),
-        truth_near: share(&to_model, &|x| x <= opts.near),
-        model_near: share(&to_truth, &|x| x <= opts.near),
-        model_far: share(&to_truth, &|x| x > opts.far),
+        truth_near: share(&to_model, |x| x <= opts.near),
+        model_near: share(&to_truth, |x| x <= opts.near),
+        model_far: share(&to_truth, |x| x > opts.far),
+    }
+}
+
+/// The share of `d` for which `f` holds (0 for none).
+fn share(d: &[Real], f: impl Fn(Real) -> bool) -> Real {
+    if d.is_empty() {
+        0.0
+    } else {
+        d.iter().filter(|&&x| f(x)).count() as Real / d.len() as Real
     }
 }
 

@@ -29,10 +29,11 @@
 //! found, its normal: the body's up direction.
 
 use rayon::slice::ParallelSliceMut;
+use std::borrow::Cow;
 
 use crate::geom::linalg::symmetric_eigen3;
 use crate::geom::math::{Point3, Real, Vec3};
-use crate::geom::mesh::PointCloud;
+use crate::geom::mesh::{central_extent, PointCloud};
 
 /// Options of [`clean_cloud`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -103,7 +104,11 @@ impl CleanReport {
 
 /// The cloud without its floor and stray points (see the module doc), and
 /// what was removed. Points keep their order; normals follow their points.
-pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, CleanReport) {
+/// A cloud with nothing to remove is returned as it is, not copied.
+pub fn clean_cloud<'c>(
+    cloud: &'c PointCloud,
+    opts: &CleanOptions,
+) -> (Cow<'c, PointCloud>, CleanReport) {
     let mut report = CleanReport {
         floor_points: 0,
         floor_normal: None,
@@ -113,10 +118,10 @@ pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, Clea
     };
     let pts = &cloud.positions;
     let Some(extent) = robust_extent(pts) else {
-        return (cloud.clone(), report);
+        return (Cow::Borrowed(cloud), report);
     };
     let mut keep = vec![true; pts.len()];
-    let voxels = Voxels::new(pts, opts.voxel * extent);
+    let voxels = Voxels::new(pts, Vec3::ZERO, opts.voxel * extent);
     if opts.remove_floor {
         if let Some(floor) = find_floor(&voxels.centroids, extent, opts) {
             let top = floor.top(pts, extent);
@@ -156,6 +161,9 @@ pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, Clea
         report.kept_components = kept;
         report.stray_components = dropped;
     }
+    if report.floor_points + report.stray_points == 0 {
+        return (Cow::Borrowed(cloud), report);
+    }
     let positions = pts
         .iter()
         .zip(&keep)
@@ -167,29 +175,16 @@ pub fn clean_cloud(cloud: &PointCloud, opts: &CleanOptions) -> (PointCloud, Clea
             .filter_map(|(n, &k)| k.then_some(*n))
             .collect()
     });
-    (PointCloud { positions, normals }, report)
+    (Cow::Owned(PointCloud { positions, normals }), report)
 }
 
 /// The longest side of the box holding the central 99.8 % of the finite
 /// points along each axis; `None` for fewer than 10 points.
 fn robust_extent(pts: &[Point3]) -> Option<Real> {
-    let mut best: Real = 0.0;
-    for axis in 0..3 {
-        let mut v: Vec<Real> = pts
-            .iter()
-            .filter(|p| p.is_finite())
-            .map(|p| p.to_array()[axis])
-            .collect();
-        if v.len() < 10 {
-            return None;
-        }
-        let lo_k = v.len() / 1000;
-        let hi_k = v.len() - 1 - lo_k;
-        let lo = *v.select_nth_unstable_by(lo_k, |a, b| a.total_cmp(b)).1;
-        let hi = *v.select_nth_unstable_by(hi_k, |a, b| a.total_cmp(b)).1;
-        best = best.max(hi - lo);
+    if pts.iter().filter(|p| p.is_finite()).count() < 10 {
+        return None;
     }
-    (best > 0.0).then_some(best)
+    central_extent(pts, 1000).filter(|&e| e > 0.0)
 }
 
 /// A floor plane found on the voxel centroids: `p · normal = level`, its
@@ -209,11 +204,7 @@ impl Floor {
     fn top(&self, pts: &[Point3], extent: Real) -> Real {
         let bin = extent / 500.0;
         let reach = self.width.max(4.0 * bin);
-        let near: Vec<Point3> = pts
-            .iter()
-            .filter(|p| p.is_finite() && (p.dot(self.normal) - self.level).abs() <= reach)
-            .copied()
-            .collect();
+        let near = near_plane(pts, self.normal, self.level, reach);
         let dev = robust_deviation(&near, self.normal, self.level);
         self.level + (3.0 * dev).max(2.0 * bin)
     }
@@ -240,21 +231,17 @@ fn find_floor(pts: &[Point3], extent: Real, opts: &CleanOptions) -> Option<Floor
     best
 }
 
-/// The floor normal to about `n`, refined once (see the module doc).
+/// The floor normal to about `n`, refitted (see the module doc).
 fn floor_along(pts: &[Point3], n: Vec3, extent: Real, cell: Real) -> Option<Floor> {
     let bin = extent / 500.0;
-    let (centre, _) = low_band(pts, n, extent, bin)?;
+    let centre = low_band(pts, n, extent, bin)?;
     // Refit the plane to the points near it, the band then set to three
     // robust deviations (at least two bins): a candidate axis a few degrees
     // off the floor's normal holds a strip of the floor in its fullest bin,
     // and each refit turns the plane towards the floor's.
     let (mut normal, mut level, mut width) = (n, centre, 1.5 * bin);
     for _ in 0..8 {
-        let band: Vec<Point3> = pts
-            .iter()
-            .filter(|p| p.is_finite() && (p.dot(normal) - level).abs() <= width)
-            .copied()
-            .collect();
+        let band = near_plane(pts, normal, level, width);
         let (c, m) = plane_fit(&band)?;
         let m = if m.dot(n) < 0.0 { -m } else { m };
         if m.dot(n) < 0.9 {
@@ -264,11 +251,7 @@ fn floor_along(pts: &[Point3], n: Vec3, extent: Real, cell: Real) -> Option<Floo
         level = c.dot(m);
         width = (3.0 * robust_deviation(&band, m, level)).max(2.0 * bin);
     }
-    let sheet: Vec<Point3> = pts
-        .iter()
-        .filter(|p| p.is_finite() && (p.dot(normal) - level).abs() <= width)
-        .copied()
-        .collect();
+    let sheet = near_plane(pts, normal, level, width);
     let top = level + width;
     // A body stands on its floor: what lies above it reaches along the
     // normal at least half the cloud's extent (a flat side does not).
@@ -295,9 +278,17 @@ fn floor_along(pts: &[Point3], n: Vec3, extent: Real, cell: Real) -> Option<Floo
     })
 }
 
+/// The finite points within `width` of the plane `p · n = level`.
+fn near_plane(pts: &[Point3], n: Vec3, level: Real, width: Real) -> Vec<Point3> {
+    pts.iter()
+        .filter(|p| p.is_finite() && (p.dot(n) - level).abs() <= width)
+        .copied()
+        .collect()
+}
+
 /// The fullest bin of heights along `n` in the lowest 15 % of their range:
-/// its centre height and its points (with its neighbours').
-fn low_band(pts: &[Point3], n: Vec3, extent: Real, bin: Real) -> Option<(Real, Vec<Point3>)> {
+/// its centre height.
+fn low_band(pts: &[Point3], n: Vec3, extent: Real, bin: Real) -> Option<Real> {
     let mut h: Vec<Real> = pts
         .iter()
         .filter(|p| p.is_finite())
@@ -324,14 +315,7 @@ fn low_band(pts: &[Point3], n: Vec3, extent: Real, bin: Real) -> Option<(Real, V
         .iter()
         .enumerate()
         .max_by_key(|&(i, c)| (*c, usize::MAX - i))?;
-    // The band: the best bin and its neighbours.
-    let centre = start + (best as Real + 0.5) * bin;
-    let sheet: Vec<Point3> = pts
-        .iter()
-        .filter(|p| p.is_finite() && (p.dot(n) - centre).abs() <= 1.5 * bin)
-        .copied()
-        .collect();
-    Some((centre, sheet))
+    Some(start + (best as Real + 0.5) * bin)
 }
 
 /// The centroid of `pts` (not empty) and the eigenvalues and eigenvectors
@@ -398,13 +382,22 @@ fn principal_axes(cents: &[Point3]) -> Vec<Vec3> {
     vecs.iter().filter_map(|v| v.normalized()).collect()
 }
 
-fn voxel_key(p: Point3, cell: Real) -> [i64; 3] {
-    let a = p.to_array();
+fn voxel_key(p: Point3, origin: Point3, cell: Real) -> [i64; 3] {
+    let a = (p - origin).to_array();
     [
         (a[0] / cell).floor() as i64,
         (a[1] / cell).floor() as i64,
         (a[2] / cell).floor() as i64,
     ]
+}
+
+/// The 26-connected voxel component of each point (voxels of side `cell`
+/// from `origin`; `u32::MAX` for a non-finite point), numbered in voxel key
+/// order.
+pub fn voxel_components(pts: &[Point3], origin: Point3, cell: Real) -> Vec<u32> {
+    Voxels::new(pts, origin, cell)
+        .components(&vec![true; pts.len()])
+        .of_point
 }
 
 /// The finite points in voxels of one side, numbered in key order (so
@@ -429,12 +422,12 @@ struct Components {
 }
 
 impl Voxels {
-    fn new(pts: &[Point3], cell: Real) -> Voxels {
+    fn new(pts: &[Point3], origin: Point3, cell: Real) -> Voxels {
         let mut order: Vec<([i64; 3], u32)> = pts
             .iter()
             .enumerate()
             .filter(|(_, p)| p.is_finite())
-            .map(|(i, p)| (voxel_key(*p, cell), i as u32))
+            .map(|(i, p)| (voxel_key(*p, origin, cell), i as u32))
             .collect();
         order.par_sort_unstable();
         let mut keys = Vec::new();
@@ -628,7 +621,7 @@ mod tests {
         let c = column(false, false);
         let (out, r) = clean_cloud(&c, &CleanOptions::default());
         assert_eq!(r.floor_normal, None);
-        assert_eq!(out, c);
+        assert_eq!(*out, c);
     }
 
     #[test]

@@ -176,56 +176,25 @@ pub fn run(args: SectionsArgs) -> Result<()> {
         Some(p) => Some(image_format(p)?),
         None => None,
     };
-    let mut levels = Vec::new();
-    let mut fitted: Vec<FittedLevel> = Vec::new();
-    // (loops cut, loops fitted, the first fit error): nothing fitted is exit 2.
-    let (mut cut, mut fits, mut first_error) = (0usize, 0usize, None::<String>);
-    for &offset in &offsets {
-        let loops = loops_at(
-            mesh_slicer.as_ref(),
-            cloud_slicer.as_ref(),
-            &scan_opts,
-            &name,
-            offset,
-        );
-        let mut json_loops = Vec::new();
-        if loops.is_empty() {
-            table += &format!("  {offset:>10.4}    -      0   (no loop)\n");
-        }
-        cut += loops.len();
-        for (i, l) in loops.iter().enumerate() {
-            match fit_loop(&l.points, &fit_opts) {
-                Ok(fit) => {
-                    fits += 1;
-                    table += &format!(
-                        "  {offset:>10.4} {i:>4} {:>6} {:>10.4} {:>10.5} {:>5} {:>9} {:>9} {:>9} {:>9}{}\n",
-                        l.points.len(),
-                        l.perimeter,
-                        l.area,
-                        fit.order,
-                        pct(fit.errors.ea),
-                        pct(fit.errors.em),
-                        fit.ellipse.map_or("-".into(), |e| pct(e.errors.ea)),
-                        fit.ellipse.map_or("-".into(), |e| pct(e.errors.em)),
-                        l.note
-                    );
-                    json_loops.push(loop_json(l, &fit));
-                    if plot_format.is_some() {
-                        match fitted.last_mut() {
-                            Some((o, v)) if *o == offset => v.push((l.points.clone(), fit)),
-                            _ => fitted.push((offset, vec![(l.points.clone(), fit)])),
-                        }
-                    }
-                }
-                Err(e) => {
-                    let e = format!("{name}: loop {i} at offset {offset}: {e}");
-                    eprintln!("trigbody: warning: {e}");
-                    first_error.get_or_insert(e);
-                }
-            }
-        }
-        levels.push(json!({ "offset": offset, "loops": json_loops }));
-    }
+    let Levels {
+        rows,
+        levels,
+        fitted,
+        cut,
+        fits,
+        first_error,
+    } = fit_levels(
+        &Cutters {
+            mesh: mesh_slicer.as_ref(),
+            cloud: cloud_slicer.as_ref(),
+            scan: &scan_opts,
+        },
+        &name,
+        &offsets,
+        &fit_opts,
+        plot_format.is_some(),
+    );
+    table += &rows;
     if cut == 0 {
         return Err(bad(format!(
             "{name}: no loop at any of the {} levels from {from} to {to}{}",
@@ -267,6 +236,85 @@ pub fn run(args: SectionsArgs) -> Result<()> {
         table += &format!("plot written to {}\n", path.display());
     }
     print(&table)
+}
+
+/// The slicers of the input (one of them) and the scan slabs' options.
+struct Cutters<'a> {
+    mesh: Option<&'a MeshSlicer<'a>>,
+    cloud: Option<&'a CloudSlicer<'a>>,
+    scan: &'a ScanSectionOptions,
+}
+
+/// Every level's loops fitted: the table's rows, the JSON levels, the fits
+/// kept for the plot, and the counts of loops cut and fitted with the first
+/// fit error (nothing fitted is exit 2).
+struct Levels {
+    rows: String,
+    levels: Vec<serde_json::Value>,
+    fitted: Vec<FittedLevel>,
+    cut: usize,
+    fits: usize,
+    first_error: Option<String>,
+}
+
+/// Cuts the input at each offset and fits every loop (see [`Levels`]).
+fn fit_levels(
+    cutters: &Cutters<'_>,
+    name: &str,
+    offsets: &[Real],
+    fit_opts: &FitOptions,
+    keep_fits: bool,
+) -> Levels {
+    let mut out = Levels {
+        rows: String::new(),
+        levels: Vec::new(),
+        fitted: Vec::new(),
+        cut: 0,
+        fits: 0,
+        first_error: None,
+    };
+    for &offset in offsets {
+        let loops = loops_at(cutters.mesh, cutters.cloud, cutters.scan, name, offset);
+        let mut json_loops = Vec::new();
+        if loops.is_empty() {
+            out.rows += &format!("  {offset:>10.4}    -      0   (no loop)\n");
+        }
+        out.cut += loops.len();
+        for (i, l) in loops.iter().enumerate() {
+            match fit_loop(&l.points, fit_opts) {
+                Ok(fit) => {
+                    out.fits += 1;
+                    out.rows += &format!(
+                        "  {offset:>10.4} {i:>4} {:>6} {:>10.4} {:>10.5} {:>5} {:>9} {:>9} {:>9} {:>9}{}\n",
+                        l.points.len(),
+                        l.perimeter,
+                        l.area,
+                        fit.order,
+                        pct(fit.errors.ea),
+                        pct(fit.errors.em),
+                        fit.ellipse.map_or("-".into(), |e| pct(e.errors.ea)),
+                        fit.ellipse.map_or("-".into(), |e| pct(e.errors.em)),
+                        l.note
+                    );
+                    json_loops.push(loop_json(l, &fit));
+                    if keep_fits {
+                        match out.fitted.last_mut() {
+                            Some((o, v)) if *o == offset => v.push((l.points.clone(), fit)),
+                            _ => out.fitted.push((offset, vec![(l.points.clone(), fit)])),
+                        }
+                    }
+                }
+                Err(e) => {
+                    let e = format!("{name}: loop {i} at offset {offset}: {e}");
+                    eprintln!("trigbody: warning: {e}");
+                    out.first_error.get_or_insert(e);
+                }
+            }
+        }
+        out.levels
+            .push(json!({ "offset": offset, "loops": json_loops }));
+    }
+    out
 }
 
 /// The offsets of the planes: `--step` apart, or `--count` of them, each

@@ -526,27 +526,13 @@ fn reconstruct_steps(
     let h = seg0.height;
     let up = seg0.frame.up;
     let floor = seg0.frame.origin.dot(up);
-    // Legs continue straight down to the floor (shoe-like feet).
-    let mut seg = seg0.clone();
-    for p in seg.parts.iter_mut() {
-        if matches!(p.name, PartName::LeftLeg | PartName::RightLeg) {
-            *p = extend_to_floor(
-                p,
-                up,
-                floor,
-                opts.sole_height * h,
-                0.25 * opts.foot_spacing * h,
-            );
-        }
-    }
+    let seg = legs_to_floor(&seg0, opts);
 
     // Horizontal cuts at the crotch itself meet both legs or their merged
     // loop: the torso starts a little above it and the legs a little below.
     let crotch_level = landmark(&seg, LandmarkKind::Crotch).map_or(floor + 0.47 * h, |c| c.dot(up));
-    // Measured: 0.6 slice spacings on meshes (coverage +0.4-0.5 % against
-    // 1.5); scan slabs are a point spacing thick and the crotch is a
-    // scanner hole, so at 0.6 the first leg loops of virtual scans mixed
-    // both thighs (model -> input RMS 4.2 -> 7.2 mm): 1.5 there.
+    // Wider for scans: their slabs are a point spacing thick and the crotch
+    // is a scanner hole, where a narrow margin mixes both thighs.
     let margin = match body {
         BodyGeometry::Mesh(_) => 0.6,
         BodyGeometry::Cloud(_) => 1.5,
@@ -577,6 +563,14 @@ fn reconstruct_steps(
             shoulders,
         })
     };
+    let limbs = LimbPlans {
+        cutter: &cutter,
+        seg: &seg,
+        seg0: &seg0,
+        opts,
+        floor,
+        leg_top: crotch_level - margin,
+    };
     let mut shoulders = Shoulders::of(&seg);
     let mut plans = Vec::new();
     // Every part but the feet, which the legs cover (shoe ends).
@@ -598,104 +592,9 @@ fn reconstruct_steps(
                 Some(plan) => plan,
                 None => continue,
             },
-            PartName::Head => Plan {
-                name,
-                cuts: cut_to_rounded_end(&cutter, name, 0.0, 0.5, step, opts, &mut warnings),
-                start_cap: CapKind::Open,
-                end_cap: CapKind::dome(),
-                tip: axis.points.last().copied(),
-                shoulders: Shoulders::default(),
-            },
-            PartName::LeftArm | PartName::RightArm => {
-                let wrist_kind = if name == PartName::LeftArm {
-                    LandmarkKind::LeftWrist
-                } else {
-                    LandmarkKind::RightWrist
-                };
-                let wrist = landmark(&seg, wrist_kind)
-                    .map(|w| fraction_of(axis, w))
-                    .unwrap_or(0.8);
-                let fine = (0.5 * step).max(0.25 * opts.foot_spacing * h / len);
-                let mut cuts = cut_all(
-                    &cutter,
-                    name,
-                    &fractions(0.0, wrist, step),
-                    opts,
-                    Shoulders::default(),
-                    &mut warnings,
-                );
-                cuts.pop(); // the wrist itself starts the hand's run
-                cuts.extend(cut_to_rounded_end(
-                    &cutter,
-                    name,
-                    wrist,
-                    wrist,
-                    fine,
-                    opts,
-                    &mut warnings,
-                ));
-                Plan {
-                    name,
-                    cuts,
-                    start_cap: CapKind::Open,
-                    end_cap: CapKind::dome(),
-                    tip: axis.points.last().copied(),
-                    shoulders: Shoulders::default(),
-                }
-            }
-            _ => {
-                // Legs: evenly to the ankle, finely below it to the sole.
-                let ankle_kind = if name == PartName::LeftLeg {
-                    LandmarkKind::LeftAnkle
-                } else {
-                    LandmarkKind::RightAnkle
-                };
-                let orig = seg0.part(name).map(PartAxis::length).unwrap_or(len);
-                let ankle = landmark(&seg, ankle_kind)
-                    .map(|a| fraction_of(axis, a))
-                    .unwrap_or(orig / len)
-                    .min(orig / len);
-                let t0 = fraction_at_level(axis, up, crotch_level - margin, false);
-                let upper = (ankle - 0.02 * h / len).max(t0);
-                let mut cuts = cut_all(
-                    &cutter,
-                    name,
-                    &fractions(t0, upper, step),
-                    opts,
-                    Shoulders::default(),
-                    &mut warnings,
-                );
-                cuts.pop();
-                // Below the ankle: horizontal outlines of the foot until
-                // they shrink where the sole curves up (heel, toes).
-                let foot = ReconstructOptions {
-                    end_area_fraction: opts.sole_area_fraction,
-                    ..*opts
-                };
-                cuts.extend(cut_to_rounded_end(
-                    &cutter,
-                    name,
-                    upper,
-                    ankle,
-                    opts.foot_spacing * h / len,
-                    &foot,
-                    &mut warnings,
-                ));
-                // The sole: a shallow dome from the last outline down to
-                // the floor below its centre.
-                let sole = cuts.last().map(|c| {
-                    let o = c.fit.curve.frame.origin;
-                    o - up * (o.dot(up) - floor)
-                });
-                Plan {
-                    name,
-                    cuts,
-                    start_cap: CapKind::Open,
-                    end_cap: CapKind::Flat,
-                    tip: sole,
-                    shoulders: Shoulders::default(),
-                }
-            }
+            PartName::Head => limbs.head(axis, step, &mut warnings),
+            PartName::LeftArm | PartName::RightArm => limbs.arm(name, axis, step, &mut warnings),
+            _ => limbs.leg(name, axis, step, &mut warnings),
         };
         plans.push(plan);
     }
@@ -718,10 +617,8 @@ fn reconstruct_steps(
         }
     }
     progress("transitions");
-    // At most twice: an arm whose side transition could not be built or
-    // strays from the input loses it (assemble only tries side arms), and
-    // the torso is cut again, its loops above that armpit reaching into
-    // the arm instead.
+    // At most twice: an arm whose side transition fails or strays loses it,
+    // and the torso is cut again to reach into that arm instead.
     let transitions = loop {
         let (transitions, poor) = assemble(
             &mut parts,
@@ -753,17 +650,8 @@ fn reconstruct_steps(
             }
         }
     };
-    // The head's pockets of skin (a modelled mouth), over the run of its
-    // sections (meshes only: `find_cavities`).
     progress("cavities");
-    let head_run = parts
-        .iter()
-        .find(|p| p.name == PartName::Head)
-        .and_then(|h| Some((h.fits.first()?.at, h.fits.last()?.at)));
-    let cavities = match head_run {
-        Some(run) => find_cavities(&cutter, PartName::Head, run, &input, opts, &mut warnings),
-        None => Vec::new(),
-    };
+    let cavities = head_cavities(&cutter, &parts, &input, opts, &mut warnings);
     let model = Body {
         units: opts.units,
         frame: seg.frame,
@@ -790,6 +678,167 @@ fn reconstruct_steps(
 /// side transition was left out, if it was (it could not be built, or it
 /// strayed further from the input than [`ARM_TRANSITION_LIMIT`]; the
 /// caller then rebuilds the torso to reach into that arm instead).
+/// The segmentation with the legs continued straight down to the floor
+/// (shoe-like feet).
+fn legs_to_floor(seg0: &Segmentation, opts: &ReconstructOptions) -> Segmentation {
+    let (h, up) = (seg0.height, seg0.frame.up);
+    let floor = seg0.frame.origin.dot(up);
+    let mut seg = seg0.clone();
+    for p in seg.parts.iter_mut() {
+        if matches!(p.name, PartName::LeftLeg | PartName::RightLeg) {
+            *p = extend_to_floor(
+                p,
+                up,
+                floor,
+                opts.sole_height * h,
+                0.25 * opts.foot_spacing * h,
+            );
+        }
+    }
+    seg
+}
+
+/// The head's pockets of skin (a modelled mouth) over the run of its
+/// sections (meshes only: `find_cavities`).
+fn head_cavities(
+    cutter: &Cutter<'_>,
+    parts: &[BodyPart],
+    input: &InputDistance<'_>,
+    opts: &ReconstructOptions,
+    warnings: &mut Vec<String>,
+) -> Vec<BodyCavity> {
+    let head_run = parts
+        .iter()
+        .find(|p| p.name == PartName::Head)
+        .and_then(|h| Some((h.fits.first()?.at, h.fits.last()?.at)));
+    match head_run {
+        Some(run) => find_cavities(cutter, PartName::Head, run, input, opts, warnings),
+        None => Vec::new(),
+    }
+}
+
+/// What the head's, arms' and legs' section plans need: the cutter, the
+/// segmentation (legs extended to the floor) and the original one, the
+/// options, the floor's height and the level the legs start below.
+struct LimbPlans<'a> {
+    cutter: &'a Cutter<'a>,
+    seg: &'a Segmentation,
+    seg0: &'a Segmentation,
+    opts: &'a ReconstructOptions,
+    floor: Real,
+    leg_top: Real,
+}
+
+impl LimbPlans<'_> {
+    /// The head: from the neck to a rounded top closed by a dome.
+    fn head(&self, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
+        let name = PartName::Head;
+        Plan {
+            name,
+            cuts: cut_to_rounded_end(self.cutter, name, 0.0, 0.5, step, self.opts, warnings),
+            start_cap: CapKind::Open,
+            end_cap: CapKind::dome(),
+            tip: axis.points.last().copied(),
+            shoulders: Shoulders::default(),
+        }
+    }
+
+    /// An arm: evenly to the wrist, finely over the hand to a dome.
+    fn arm(&self, name: PartName, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
+        let (opts, h, len) = (self.opts, self.seg.height, axis.length());
+        let wrist_kind = if name == PartName::LeftArm {
+            LandmarkKind::LeftWrist
+        } else {
+            LandmarkKind::RightWrist
+        };
+        let wrist = landmark(self.seg, wrist_kind)
+            .map(|w| fraction_of(axis, w))
+            .unwrap_or(0.8);
+        let fine = (0.5 * step).max(0.25 * opts.foot_spacing * h / len);
+        let mut cuts = cut_all(
+            self.cutter,
+            name,
+            &fractions(0.0, wrist, step),
+            opts,
+            Shoulders::default(),
+            warnings,
+        );
+        cuts.pop(); // the wrist itself starts the hand's run
+        cuts.extend(cut_to_rounded_end(
+            self.cutter,
+            name,
+            wrist,
+            wrist,
+            fine,
+            opts,
+            warnings,
+        ));
+        Plan {
+            name,
+            cuts,
+            start_cap: CapKind::Open,
+            end_cap: CapKind::dome(),
+            tip: axis.points.last().copied(),
+            shoulders: Shoulders::default(),
+        }
+    }
+
+    /// A leg: evenly to the ankle, finely below it to the sole.
+    fn leg(&self, name: PartName, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
+        let (opts, h, len, up) = (self.opts, self.seg.height, axis.length(), self.seg.frame.up);
+        let ankle_kind = if name == PartName::LeftLeg {
+            LandmarkKind::LeftAnkle
+        } else {
+            LandmarkKind::RightAnkle
+        };
+        let orig = self.seg0.part(name).map(PartAxis::length).unwrap_or(len);
+        let ankle = landmark(self.seg, ankle_kind)
+            .map(|a| fraction_of(axis, a))
+            .unwrap_or(orig / len)
+            .min(orig / len);
+        let t0 = fraction_at_level(axis, up, self.leg_top, false);
+        let upper = (ankle - 0.02 * h / len).max(t0);
+        let mut cuts = cut_all(
+            self.cutter,
+            name,
+            &fractions(t0, upper, step),
+            opts,
+            Shoulders::default(),
+            warnings,
+        );
+        cuts.pop();
+        // Below the ankle: horizontal outlines of the foot until they
+        // shrink where the sole curves up (heel, toes).
+        let foot = ReconstructOptions {
+            end_area_fraction: opts.sole_area_fraction,
+            ..*opts
+        };
+        cuts.extend(cut_to_rounded_end(
+            self.cutter,
+            name,
+            upper,
+            ankle,
+            opts.foot_spacing * h / len,
+            &foot,
+            warnings,
+        ));
+        // The sole: a shallow dome from the last outline down to the floor
+        // below its centre.
+        let sole = cuts.last().map(|c| {
+            let o = c.fit.curve.frame.origin;
+            o - up * (o.dot(up) - self.floor)
+        });
+        Plan {
+            name,
+            cuts,
+            start_cap: CapKind::Open,
+            end_cap: CapKind::Flat,
+            tip: sole,
+            shoulders: Shoulders::default(),
+        }
+    }
+}
+
 fn assemble(
     parts: &mut [BodyPart],
     seg: &Segmentation,

@@ -527,20 +527,6 @@ pub(crate) fn height_key(h: Real) -> u64 {
     (b ^ ((((b >> 63) as u64) >> 1) as i64)) as u64 ^ (1 << 63)
 }
 
-/// Moves `p` (height `h = p·a − c` above the plane `{x : x·a = c}`) within
-/// its tangent plane (normal `n`) onto the section plane:
-///
-/// ```text
-/// g = a − n (n·a)          (the axis projected into the tangent plane)
-/// p' = p − h g / |g|²      (so that p'·a = c, and p' − p ⟂ n)
-/// ```
-///
-/// On an inclined surface, projecting straight along the axis shifts a
-/// point by `h tan θ` sideways (θ the surface's inclination); where the slab
-/// sees the surface only on one side of the plane (occlusion, grazing
-/// views) that shift does not average out and biases the loop. Surfaces
-/// within 60° of facing along the axis (`|g|² < ¼`) and invalid normals are
-/// projected straight.
 /// Removes self-crossings of the ordered loop (local zigzags where bins
 /// along a grazing stretch hold points from both sides of the slab) by
 /// 2-opt moves: when edges `i` and `j > i` cross, the points `i+1..=j` are
@@ -563,6 +549,20 @@ fn untangle(reps: &mut [usize], pts: &[Point2]) {
 /// Smallest `|g|²` at which [`onto_plane`] moves a point.
 const MIN_TANGENT_SLOPE2: Real = 0.04;
 
+/// Moves `p` (height `h = p·a − c` above the plane `{x : x·a = c}`) within
+/// its tangent plane (normal `n`) onto the section plane:
+///
+/// ```text
+/// g = a − n (n·a)          (the axis projected into the tangent plane)
+/// p' = p − h g / |g|²      (so that p'·a = c, and p' − p ⟂ n)
+/// ```
+///
+/// On an inclined surface, projecting straight along the axis shifts a
+/// point by `h tan θ` sideways (θ the surface's inclination); where the slab
+/// sees the surface only on one side of the plane (occlusion, grazing
+/// views) that shift does not average out and biases the loop. Surfaces
+/// within 60° of facing along the axis (`|g|² < ¼`) and invalid normals are
+/// projected straight.
 pub fn onto_plane(p: Point3, n: Vec3, a: Vec3, c: Real) -> Point3 {
     let Some(n) = n.normalized() else {
         return p;

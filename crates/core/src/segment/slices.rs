@@ -1,0 +1,382 @@
+//! Slicing along one axis, for meshes and clouds alike: each section's
+//! loops as nodes of the slice graph (module docs, step 2).
+
+use crate::anatomy::BodyGeometry;
+use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
+use crate::section::cloud::{CloudSlicer, ScanSectionOptions};
+use crate::section::girth::convex_hull;
+use crate::section::mesh::{polygon_area_centroid, MeshSlicer, SectionLoop};
+use crate::segment::graph::Node;
+use crate::segment::{HeightSort, SegmentError, SegmentOptions};
+
+/// Sections normal to one axis, from a mesh or a cloud, as graph nodes.
+pub(super) enum AxisSlicer<'a> {
+    Mesh(MeshSlicer<'a>),
+    Cloud(SlabComponents),
+}
+
+impl<'a> AxisSlicer<'a> {
+    /// `spacing`: a cloud's point spacing when already known.
+    pub(super) fn new(
+        body: BodyGeometry<'a>,
+        axis: Vec3,
+        opts: &SegmentOptions,
+        spacing: Option<Real>,
+    ) -> Result<AxisSlicer<'a>, SegmentError> {
+        Ok(match body {
+            BodyGeometry::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, axis, &opts.section)?),
+            BodyGeometry::Cloud(c) => {
+                // The spacing estimate of the scan sections, so that both
+                // agree on what a cell is.
+                let spacing = match spacing {
+                    Some(s) => s,
+                    None => CloudSlicer::new(c, axis)?.spacing(),
+                };
+                let graph = ScanSectionOptions {
+                    cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),
+                    closing_radius: opts.graph_closing,
+                    ..opts.scan
+                };
+                AxisSlicer::Cloud(SlabComponents::new(&c.positions, axis, spacing, &graph)?)
+            }
+        })
+    }
+
+    /// [`AxisSlicer::new`] with the spacing estimated here, and for a
+    /// cloud the estimate's sort by height (indices and heights,
+    /// [`CloudSlicer`]'s) with the unit axis of those heights.
+    pub(super) fn new_sorted(
+        body: BodyGeometry<'a>,
+        axis: Vec3,
+        opts: &SegmentOptions,
+    ) -> Result<(AxisSlicer<'a>, Option<(Vec3, HeightSort)>), SegmentError> {
+        match body {
+            BodyGeometry::Mesh(_) => Ok((AxisSlicer::new(body, axis, opts, None)?, None)),
+            BodyGeometry::Cloud(c) => {
+                let cloud = CloudSlicer::new(c, axis)?;
+                let slicer = AxisSlicer::new(body, axis, opts, Some(cloud.spacing()))?;
+                Ok((slicer, Some((cloud.axis(), cloud.into_sorted()))))
+            }
+        }
+    }
+
+    pub(super) fn range(&self) -> (Real, Real) {
+        match self {
+            AxisSlicer::Mesh(s) => s.range(),
+            AxisSlicer::Cloud(s) => s.range(),
+        }
+    }
+
+    pub(super) fn spacing(&self) -> Option<Real> {
+        match self {
+            AxisSlicer::Mesh(_) => None,
+            AxisSlicer::Cloud(s) => Some(s.spacing),
+        }
+    }
+
+    /// The section's loops at `offset` as nodes (slice index 0, set by the
+    /// caller); none where the plane misses or the slab is too thin. A
+    /// mesh's loop nested in another (a pocket of skin inside a part, such
+    /// as a modelled mouth) is no branch of the body: left out.
+    pub(super) fn nodes_at(&self, offset: Real, e1: Vec3, e2: Vec3) -> Vec<Node> {
+        match self {
+            AxisSlicer::Mesh(s) => s
+                .section_at(offset)
+                .map(|s| {
+                    let nested = |l: &SectionLoop| {
+                        s.loops
+                            .iter()
+                            .any(|o| o.area > l.area && o.contains(l.centroid))
+                    };
+                    s.loops
+                        .iter()
+                        .filter(|l| !nested(l))
+                        .map(|l| Node::new(0, l, e1, e2))
+                        .collect()
+                })
+                .unwrap_or_default(),
+            AxisSlicer::Cloud(s) => s.nodes_at(offset, e1, e2),
+        }
+    }
+}
+
+/// Slabs of a point cloud reduced to what the slice graph needs: the
+/// connected components of each slab's occupancy image (the construction
+/// of [`CloudSlicer`]: cells of the point spacing, a morphological closing,
+/// 8-connected components) with their filled area, area centroid and the
+/// convex hull of their points. Ordering the points along each loop (what
+/// the curve fit needs, and most of [`CloudSlicer::section_at`]'s time) is
+/// skipped: the graph only asks where a part is and how big.
+#[derive(Debug)]
+pub(super) struct SlabComponents {
+    axis: Vec3,
+    /// Points and heights in bin order (sorted by bin, not within a bin).
+    points: Vec<Point3>,
+    heights: Vec<Real>,
+    /// Bin `b` holds `points[bin_start[b]..bin_start[b + 1]]`.
+    bin_start: Vec<usize>,
+    bin_low: Real,
+    bin_width: Real,
+    range: (Real, Real),
+    spacing: Real,
+    half_thickness: Real,
+    cell: Real,
+    closing: usize,
+    min_points: usize,
+    max_cells: usize,
+}
+
+impl SlabComponents {
+    pub(super) fn new(
+        points: &[Point3],
+        axis: Vec3,
+        spacing: Real,
+        o: &ScanSectionOptions,
+    ) -> Result<SlabComponents, SegmentError> {
+        let axis = axis.normalized().ok_or(SegmentError::BadOption {
+            name: "up",
+            why: "must be a finite non-zero vector",
+        })?;
+        let len = |v: Option<Real>, name: &'static str| match v {
+            None => Ok(spacing),
+            Some(x) if x.is_finite() && x > 0.0 => Ok(x),
+            Some(_) => Err(SegmentError::BadOption {
+                name,
+                why: "must be finite and positive",
+            }),
+        };
+        // Bucket (counting) sort by height into bins of about a quarter
+        // of the point spacing: linear time, and a slab is a run of bins
+        // (points of its two end bins are checked one by one).
+        let heights: Vec<Real> = points.iter().map(|p| p.dot(axis)).collect();
+        let (lo, hi) = heights
+            .iter()
+            .fold((Real::INFINITY, Real::NEG_INFINITY), |(a, b), &h| {
+                (a.min(h), b.max(h))
+            });
+        let bins =
+            (((hi - lo) / (0.25 * spacing)).ceil() as usize).clamp(1, 4 * points.len().max(1));
+        let width = ((hi - lo) / bins as Real).max(Real::MIN_POSITIVE);
+        let bin_of = |h: Real| (((h - lo) / width) as usize).min(bins - 1);
+        // Each point's bin and the bins' counts, each bin's points'
+        // indices (in index order), then the points and heights gathered
+        // in that order, side by side on two cores (written in sequence,
+        // no zero-filled arrays first).
+        let mut start = vec![0usize; bins + 1];
+        let bin: Vec<usize> = heights
+            .iter()
+            .map(|&h| {
+                let b = bin_of(h);
+                start[b + 1] += 1;
+                b
+            })
+            .collect();
+        for b in 0..bins {
+            start[b + 1] += start[b];
+        }
+        let mut fill = start.clone();
+        let mut order = vec![0u32; points.len()];
+        for (i, &b) in bin.iter().enumerate() {
+            order[fill[b]] = i as u32;
+            fill[b] += 1;
+        }
+        let (sorted_points, sorted_heights): (Vec<Point3>, Vec<Real>) = crate::geom::parallel::join(
+            || order.iter().map(|&i| points[i as usize]).collect(),
+            || order.iter().map(|&i| heights[i as usize]).collect(),
+        );
+        Ok(SlabComponents {
+            axis,
+            heights: sorted_heights,
+            points: sorted_points,
+            bin_start: start,
+            bin_low: lo,
+            bin_width: width,
+            range: (lo, hi),
+            spacing,
+            half_thickness: len(o.half_thickness, "scan.half_thickness")?,
+            cell: len(o.cell_size, "scan.cell_size")?,
+            closing: o.closing_radius,
+            min_points: o.min_component_points.max(3),
+            max_cells: o.max_cells.max(64),
+        })
+    }
+
+    fn range(&self) -> (Real, Real) {
+        self.range
+    }
+
+    fn nodes_at(&self, offset: Real, e1: Vec3, e2: Vec3) -> Vec<Node> {
+        let t = self.half_thickness;
+        let bins = self.bin_start.len() - 1;
+        let bin = |h: Real| ((h - self.bin_low) / self.bin_width).floor();
+        let (b0, b1) = (bin(offset - t), bin(offset + t));
+        if !(b0.is_finite() && b1.is_finite()) || b1 < 0.0 || b0 >= bins as Real {
+            return Vec::new();
+        }
+        let (b0, b1) = ((b0.max(0.0)) as usize, (b1 as usize).min(bins - 1));
+        let range = self.bin_start[b0]..self.bin_start[b1 + 1];
+        let pts: Vec<Point2> = range
+            .filter(|&i| (self.heights[i] - offset).abs() <= t)
+            .map(|i| {
+                let p = self.points[i];
+                Vec2::new(p.dot(e1), p.dot(e2))
+            })
+            .collect();
+        if pts.len() < self.min_points {
+            return Vec::new();
+        }
+        let (mut min, mut max) = (pts[0], pts[0]);
+        for p in &pts {
+            min = Vec2::new(min.x.min(p.x), min.y.min(p.y));
+            max = Vec2::new(max.x.max(p.x), max.y.max(p.y));
+        }
+        let r = self.closing;
+        let margin = (r + 2) as Real;
+        let mut g = self.cell;
+        let dims = |g: Real| {
+            (
+                ((max.x - min.x) / g + 2.0 * margin).ceil() as usize + 1,
+                ((max.y - min.y) / g + 2.0 * margin).ceil() as usize + 1,
+            )
+        };
+        while {
+            let (w, h) = dims(g);
+            w.saturating_mul(h) > self.max_cells
+        } {
+            g *= 1.5;
+        }
+        let (w, h) = dims(g);
+        let origin = min - Vec2::new(margin * g, margin * g);
+        let cell_of = |p: Point2| {
+            let x = (((p.x - origin.x) / g) as usize).min(w - 1);
+            let y = (((p.y - origin.y) / g) as usize).min(h - 1);
+            y * w + x
+        };
+        let mut img = vec![false; w * h];
+        let cells: Vec<usize> = pts.iter().map(|&p| cell_of(p)).collect();
+        for &c in &cells {
+            img[c] = true;
+        }
+        let img = if r > 0 {
+            box_filter(&box_filter(&img, w, h, r, true), w, h, r, false)
+        } else {
+            img
+        };
+        // 8-connected components.
+        let mut label = vec![u32::MAX; w * h];
+        let mut comps: Vec<Vec<usize>> = Vec::new();
+        let mut stack = Vec::new();
+        for start in 0..w * h {
+            if !img[start] || label[start] != u32::MAX {
+                continue;
+            }
+            let id = comps.len() as u32;
+            let mut members = Vec::new();
+            label[start] = id;
+            stack.push(start);
+            while let Some(c) = stack.pop() {
+                members.push(c);
+                let (x, y) = ((c % w) as isize, (c / w) as isize);
+                for dy in -1..=1isize {
+                    for dx in -1..=1isize {
+                        let (nx, ny) = (x + dx, y + dy);
+                        if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
+                            continue;
+                        }
+                        let nc = ny as usize * w + nx as usize;
+                        if img[nc] && label[nc] == u32::MAX {
+                            label[nc] = id;
+                            stack.push(nc);
+                        }
+                    }
+                }
+            }
+            comps.push(members);
+        }
+        let mut comp_points: Vec<Vec<Point2>> = vec![Vec::new(); comps.len()];
+        for (k, &c) in cells.iter().enumerate() {
+            if let Some(v) = comp_points.get_mut(label[c] as usize) {
+                v.push(pts[k]);
+            }
+        }
+        let mut out = Vec::new();
+        for id in 0..comps.len() {
+            if comp_points[id].len() < self.min_points {
+                continue;
+            }
+            // Area and centroid of the convex hull of the points: a ring
+            // broken by a scanner hole has no inside to fill, but its hull
+            // is still the section's outline (over-counting only the
+            // concavities).
+            let hull = convex_hull(&comp_points[id]);
+            let Some((area, c2)) = polygon_area_centroid(&hull) else {
+                continue;
+            };
+            let area = area.abs();
+            out.push(Node::from_parts(
+                0,
+                self.axis * offset + e1 * c2.x + e2 * c2.y,
+                c2,
+                area,
+                hull,
+            ));
+        }
+        out
+    }
+}
+
+/// Dilation (`dilate`) or erosion of a binary image by a square of radius
+/// `r`, separably (rows, then columns) with running counts.
+fn box_filter(img: &[bool], w: usize, h: usize, r: usize, dilate: bool) -> Vec<bool> {
+    let pass = |src: &[bool], len: usize, lines: usize, at: &dyn Fn(usize, usize) -> usize| {
+        let mut out = vec![false; src.len()];
+        for line in 0..lines {
+            let mut count = 0usize;
+            // Window [i - r, i + r]; out of range counts as unset.
+            for i in 0..r.min(len) {
+                count += usize::from(src[at(line, i)]);
+            }
+            for i in 0..len {
+                if i + r < len {
+                    count += usize::from(src[at(line, i + r)]);
+                }
+                if i > r {
+                    count -= usize::from(src[at(line, i - r - 1)]);
+                }
+                let full = 2 * r + 1;
+                out[at(line, i)] = if dilate { count > 0 } else { count == full };
+            }
+        }
+        out
+    };
+    let rows = pass(img, w, h, &|line, i| line * w + i);
+    pass(&rows, h, w, &|line, i| i * w + line)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::math::Vec2;
+    use crate::segment::graph::hull_perimeter;
+
+    #[test]
+    fn hull_and_box_filter() {
+        let sq = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.5, 0.5),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        assert!((hull_perimeter(&sq) - 4.0).abs() < 1e-12);
+        // Closing a one-cell gap in a row with radius 1.
+        let (w, h) = (9, 5);
+        let mut img = vec![false; w * h];
+        for x in [2, 3, 5, 6] {
+            img[2 * w + x] = true;
+        }
+        let closed = box_filter(&box_filter(&img, w, h, 1, true), w, h, 1, false);
+        assert!((2..=6).all(|x| closed[2 * w + x]));
+        assert!(!closed[2 * w + 1] && !closed[2 * w + 7]);
+    }
+}

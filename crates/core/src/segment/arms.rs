@@ -11,6 +11,7 @@ use crate::segment::axis::smooth_axis;
 use crate::segment::branches::Trunk;
 use crate::segment::cut::local_mesh;
 use crate::segment::frame::{Found, Landmarking};
+use crate::segment::geodesic;
 use crate::segment::graph::{hull_perimeter, Graph, Node};
 use crate::segment::slices::{AxisSlicer, SlabComponents};
 use crate::segment::{PartAxis, SegmentOptions};
@@ -63,7 +64,7 @@ impl Landmarking<'_> {
             let names = ArmNames::of(k);
             let pit_slice = match found {
                 Some((nodes, m)) => Some(self.place_hanging_arm(nodes, *m, &names, out)),
-                None => self.place_lateral_arm(k, &names, crotch_h, out),
+                None => self.place_lateral_arm(k, &names, trunk, crotch_h, out),
             };
             if let Some(s) = pit_slice {
                 armpit_slice = armpit_slice.max(s);
@@ -119,13 +120,14 @@ impl Landmarking<'_> {
     }
 
     /// No arm hangs from the trunk on side `k`: one held out sideways
-    /// (T-pose) in slices across the body, its armpit, hand tip, wrist and
-    /// axis. Returns its armpit's slice, or `None` (a warning) when there
+    /// (T-pose) in slices across the body, else (a mesh) one found on the
+    /// surface, its armpit, hand tip, wrist and axis. Returns its armpit's slice, or `None` (a warning) when there
     /// is none.
     fn place_lateral_arm(
         &self,
         k: usize,
         names: &ArmNames,
+        trunk: &Trunk,
         crotch_h: Real,
         out: &mut Found,
     ) -> Option<usize> {
@@ -139,7 +141,38 @@ impl Landmarking<'_> {
             ..
         } = *names;
         let side = if k == 0 { self.left } else { -self.left };
-        let Some(found) = self.lateral_arm(side, floor + crotch_h) else {
+        let surface_arm = || {
+            match self.body {
+            // An arm touching or crossing the trunk, or raised: found on the
+            // mesh's surface.
+            BodyGeometry::Mesh(m) => geodesic::find_arm(
+                m,
+                &geodesic::ArmQuery {
+                    crotch: out
+                        .landmarks
+                        .iter()
+                        .find(|l| l.kind == LandmarkKind::Crotch)?
+                        .position,
+                    head: self.g.nodes[trunk.top_node].centroid,
+                    up,
+                    side,
+                    floor,
+                    extent,
+                },
+            )
+            .map(|a| LateralArm {
+                axis: a.axis,
+                armpit: a.armpit,
+                tip: a.tip,
+                how: "the surface's rings around the hand farthest from the crotch, up to where they spread over the shoulder",
+            }),
+            BodyGeometry::Cloud(_) => None,
+        }
+        };
+        let found = self
+            .lateral_arm(side, floor + crotch_h)
+            .or_else(surface_arm);
+        let Some(found) = found else {
             out.warnings.push(format!(
                 "{pname} not found: no branch of at least {:.0} % of the height joins the trunk on the body's {} side above the crotch, hanging down or held out sideways (missing arm, or arm touching the body)",
                 100.0 * opts.min_arm,
@@ -153,7 +186,7 @@ impl Landmarking<'_> {
             position: found.armpit,
             height_fraction: pit_h / extent,
             confidence: 1.0,
-            how: "the arm's branch in slices across the body merges into the trunk (arm held out)",
+            how: found.how,
         });
         out.landmarks.push(Landmark {
             kind: tip,
@@ -394,6 +427,7 @@ impl Landmarking<'_> {
             axis: axis_pts,
             armpit,
             tip,
+            how: "the arm's branch in slices across the body merges into the trunk (arm held out)",
         })
     }
 }
@@ -406,12 +440,14 @@ impl Landmarking<'_> {
 /// mesh 3.58-3.63 mm throughout); without the rule 7.66 / 24.7.
 const LATERAL_ARM_WIDE: Real = 1.15;
 
-/// An arm found in slices across the body.
+/// An arm found in slices across the body, or on the surface.
 struct LateralArm {
     /// Centroids and radii from the shoulder junction out to the hand.
     axis: Vec<(Point3, Real)>,
     armpit: Point3,
     tip: Point3,
+    /// How the armpit was found (its landmark's `how`).
+    how: &'static str,
 }
 
 fn nearest_point(poly: &[Point2], q: Point2) -> Point2 {

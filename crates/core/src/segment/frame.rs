@@ -37,7 +37,7 @@ impl Levels {
 }
 
 /// The direction the body faces: `given` made horizontal, else from the
-/// feet (module docs, step 6).
+/// feet and, when they disagree, the hips (module docs, step 6).
 pub(super) fn find_front(
     g: &Graph,
     trunk: &Trunk,
@@ -101,9 +101,29 @@ pub(super) fn find_front(
             _ => Vec3::ZERO,
         }
     };
+    // Feet that agree (within 60°) give the front as the mean of their
+    // unit directions. Feet that disagree (one lifted, bent back, turned
+    // out) give only its sign: the front is then square to the line through
+    // the legs' top loops, side by side below the crotch in any standing
+    // pose, towards the feet's sum (a foot on the floor outweighs a lifted
+    // one).
     let (da, db) = (leg_dir(0), leg_dir(1));
-    let dir = (da.normalized().unwrap_or(Vec3::ZERO) + db.normalized().unwrap_or(Vec3::ZERO))
-        * (0.25 * (da.norm() + db.norm()));
+    let (ua, ub) = (da.normalized(), db.normalized());
+    let agree = matches!((ua, ub), (Some(a), Some(b)) if a.dot(b) >= 0.5);
+    let top_of = |c: &[usize]| g.chain_nodes(c).last().map(|&a| g.nodes[a].centroid);
+    let hips = match (top_of(&trunk.leg_chains[0]), top_of(&trunk.leg_chains[1])) {
+        (Some(a), Some(b)) => across(a - b).normalized(),
+        _ => None,
+    };
+    let dir = match hips {
+        Some(h) if !agree => {
+            let f = up.cross(h);
+            f * (0.5 * (da + db).dot(f))
+        }
+        _ => {
+            (ua.unwrap_or(Vec3::ZERO) + ub.unwrap_or(Vec3::ZERO)) * (0.25 * (da.norm() + db.norm()))
+        }
+    };
     if dir.norm() < 0.005 * extent {
         warnings.push(format!(
                 "front direction weakly determined: the feet reach only {:.2} % of the height in front of the ankles",

@@ -86,14 +86,23 @@
 //!    slices across the body (normal to `left`, from the outermost slice
 //!    inward): a branch that starts in the outer tenth, lies above the
 //!    crotch and merges into the trunk is the arm, the merge its armpit.
+//!    **Any other pose, on a mesh** (an arm touching or crossing the
+//!    trunk, raised, bent): the arm is found on the surface
+//!    ([`geodesic`]): the hand is an extremity of the distance along the
+//!    surface from the crotch whose arm ends on that side, the axis the
+//!    centroids of the rings of the distance from the hand, up to where
+//!    they spread over the shoulder.
 //!    A missing arm is a warning and a partial model; missing legs or a
 //!    missing crotch are errors naming what was not found.
 //! 6. **Front** ([`SegmentOptions::front`] if given): the feet point
 //!    forward. For each leg, the area centroid of its slices 1-3 % of `H`
 //!    above the floor minus that of its slices 6-9 % above it, made
-//!    horizontal; the two legs' unit directions are averaged (each leg on
-//!    its own, so a slightly tilted axis that cuts one foot lower does not
-//!    pull the answer sideways). `left = up × front`. A foot that reaches
+//!    horizontal; when the two agree within 60° their unit directions are
+//!    averaged (each leg on its own, so a slightly tilted axis that cuts
+//!    one foot lower does not pull the answer sideways). Feet that disagree
+//!    (one lifted or bent back) give only the sign: the front is square to
+//!    the line through the legs' top loops (side by side below the crotch),
+//!    towards the two feet's sum. `left = up × front`. A foot that reaches
 //!    less than 0.5 % of `H` forward gives a warning.
 //! 7. **Landmarks on branches.** The **neck** is the smallest convex-hull
 //!    girth of the trunk path between the highest armpit and the head's
@@ -127,9 +136,10 @@
 //! along `up`); landmarks carry their height as a fraction of `H`. Units
 //! are the input's: nothing assumes metres.
 //!
-//! Not handled (reported, not guessed): a hand touching the thigh or hip
-//! (the legs then do not merge only with each other: an error naming the
-//! crotch, or an arm reported missing), arms above the head, sitting poses.
+//! Not handled (reported, not guessed): a scan's arm touching the trunk or
+//! raised above the head (a cloud has no surface to walk), a hand touching
+//! the thigh or hip in the slices (the legs then do not merge only with
+//! each other: an error naming the crotch), sitting poses.
 //! Fingers thinner than [`SegmentOptions::min_loop_area`] are not in the
 //! graph; the arm's axis is extended from its last slice to the farthest
 //! input point along the forearm-hand direction (the **hand tip**).
@@ -142,6 +152,7 @@ mod axis;
 mod branches;
 mod cut;
 mod frame;
+mod geodesic;
 mod graph;
 pub mod joints;
 mod legs;

@@ -1,0 +1,336 @@
+//! Arms found on a mesh's own surface, whatever the pose: distances along
+//! the surface from the crotch are largest at the hands, feet and head top
+//! (an arm touching or crossing the torso, or raised above the head, is
+//! still a separate sheet of the mesh), and level sets of the distance from
+//! a hand are rings around the arm up to where they spread over the
+//! shoulder. The segmentation asks for it on a side where the horizontal
+//! slice graph and the slices across the body found no arm.
+
+use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::mesh::Mesh;
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+/// Where the body is, for [`find_arm`]. Lengths in the input's units.
+pub(super) struct ArmQuery {
+    pub crotch: Point3,
+    /// The top of the trunk path (the head's last loop).
+    pub head: Point3,
+    pub up: Vec3,
+    /// The side searched: the body's left or right, a unit vector.
+    pub side: Vec3,
+    /// The floor's height along `up` and the body's height `H`.
+    pub floor: Real,
+    pub extent: Real,
+}
+
+/// An arm found on the surface.
+pub(super) struct SurfaceArm {
+    /// Ring centroids and radii from the shoulder end out to the hand.
+    pub axis: Vec<(Point3, Real)>,
+    /// The shoulder end of the rings.
+    pub armpit: Point3,
+    /// The hand's extremity.
+    pub tip: Point3,
+}
+
+/// Ring width of the level sets along an arm, a fraction of `H` (at least
+/// the mesh's median edge, so a coarse mesh's rings are not empty).
+const BAND: Real = 0.01;
+/// A ring wider than this many times the arm's median ring has reached
+/// the shoulder.
+const SHOULDER_WIDE: Real = 1.6;
+/// Extremities closer than this (fraction of `H`) are one (a hand's
+/// fingertips, a foot's toes).
+const EXTREMITY_GAP: Real = 0.12;
+
+/// The mesh's edges as a symmetric adjacency list with lengths.
+struct SurfaceGraph {
+    start: Vec<usize>,
+    next: Vec<(u32, Real)>,
+}
+
+impl SurfaceGraph {
+    fn new(m: &Mesh) -> SurfaceGraph {
+        let n = m.positions.len();
+        let mut edges: Vec<(u32, u32)> = Vec::with_capacity(6 * m.triangles.len());
+        for t in &m.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                if a != b && (a as usize) < n && (b as usize) < n {
+                    edges.push((a, b));
+                    edges.push((b, a));
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        let mut start = vec![0usize; n + 1];
+        for &(a, _) in &edges {
+            start[a as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let next = edges
+            .iter()
+            .map(|&(a, b)| (b, m.positions[a as usize].distance(m.positions[b as usize])))
+            .collect();
+        SurfaceGraph { start, next }
+    }
+
+    fn median_edge(&self) -> Real {
+        let mut l: Vec<Real> = self.next.iter().map(|e| e.1).collect();
+        if l.is_empty() {
+            return 0.0;
+        }
+        let k = l.len() / 2;
+        *l.select_nth_unstable_by(k, Real::total_cmp).1
+    }
+
+    /// Dijkstra from `source` (infinite where it does not reach).
+    fn distances(&self, source: u32) -> Vec<Real> {
+        let n = self.start.len() - 1;
+        let mut d = vec![Real::INFINITY; n];
+        let mut heap = BinaryHeap::new();
+        d[source as usize] = 0.0;
+        heap.push(Queued(0.0, source));
+        while let Some(Queued(du, u)) = heap.pop() {
+            if du > d[u as usize] {
+                continue;
+            }
+            for &(v, w) in &self.next[self.start[u as usize]..self.start[u as usize + 1]] {
+                let dv = du + w;
+                if dv < d[v as usize] {
+                    d[v as usize] = dv;
+                    heap.push(Queued(dv, v));
+                }
+            }
+        }
+        d
+    }
+
+    fn neighbours(&self, v: usize) -> impl Iterator<Item = usize> + '_ {
+        self.next[self.start[v]..self.start[v + 1]]
+            .iter()
+            .map(|e| e.0 as usize)
+    }
+}
+
+/// A min-heap entry (distance, vertex), ties by vertex.
+#[derive(PartialEq)]
+struct Queued(Real, u32);
+impl Eq for Queued {}
+impl Ord for Queued {
+    fn cmp(&self, o: &Self) -> Ordering {
+        o.0.total_cmp(&self.0).then_with(|| o.1.cmp(&self.1))
+    }
+}
+impl PartialOrd for Queued {
+    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+/// The vertices' shares of the surface: a third of each incident
+/// triangle's area.
+fn vertex_areas(m: &Mesh) -> Vec<Real> {
+    let mut a = vec![0.0; m.positions.len()];
+    for t in &m.triangles {
+        let [p, q, r] = t.map(|i| m.positions[i as usize]);
+        let third = (q - p).cross(r - p).norm() / 6.0;
+        for &i in t {
+            a[i as usize] += third;
+        }
+    }
+    a
+}
+
+/// The local maxima of `d` (no neighbour farther), farthest first, each at
+/// least `gap` from every one kept before it.
+fn extremities(g: &SurfaceGraph, d: &[Real], pos: &[Point3], gap: Real) -> Vec<usize> {
+    let mut maxima: Vec<usize> = (0..d.len())
+        .filter(|&v| d[v].is_finite() && g.neighbours(v).all(|u| d[u] <= d[v]))
+        .collect();
+    maxima.sort_by(|&a, &b| d[b].total_cmp(&d[a]).then(a.cmp(&b)));
+    let mut kept: Vec<usize> = Vec::new();
+    for v in maxima {
+        if kept.iter().all(|&k| pos[k].distance(pos[v]) >= gap) {
+            kept.push(v);
+        }
+    }
+    kept
+}
+
+/// The arm whose hand is vertex `tip`: rings of the distance from it, up
+/// to the first ring wider than [`SHOULDER_WIDE`] times the median ring.
+/// Centroids and radii from the shoulder end out to the hand.
+fn arm_from_tip(
+    g: &SurfaceGraph,
+    m: &Mesh,
+    areas: &[Real],
+    tip: usize,
+    extent: Real,
+) -> Option<Vec<(Point3, Real)>> {
+    let d = g.distances(tip as u32);
+    let band = (BAND * extent).max(g.median_edge());
+    let count = (0.6 * extent / band).ceil() as usize;
+    let mut sums = vec![(Vec3::ZERO, 0.0); count];
+    for (v, &dv) in d.iter().enumerate() {
+        let k = (dv / band) as usize;
+        if dv.is_finite() && k < count {
+            sums[k].0 += m.positions[v] * areas[v];
+            sums[k].1 += areas[v];
+        }
+    }
+    let centroid: Vec<Option<Point3>> = sums
+        .iter()
+        .map(|&(s, w)| (w > 0.0).then(|| s / w))
+        .collect();
+    let mut spread = vec![(0.0, 0.0); count];
+    for (v, &dv) in d.iter().enumerate() {
+        let k = (dv / band) as usize;
+        if let Some(c) = centroid.get(k).copied().flatten() {
+            spread[k].0 += m.positions[v].distance(c) * areas[v];
+            spread[k].1 += areas[v];
+        }
+    }
+    let rings: Vec<Option<(Point3, Real)>> = (0..count)
+        .map(|k| centroid[k].map(|c| (c, spread[k].0 / spread[k].1)))
+        .collect();
+    // Past the hand (0.15 H), the first ring wider than the median of the
+    // rings since the hand's middle is the shoulder.
+    let past_hand = (0.15 * extent / band).ceil() as usize;
+    let mut end = None;
+    for k in past_hand..count {
+        let Some((_, r)) = rings[k] else { continue };
+        let mut before: Vec<Real> = rings[past_hand / 2..k]
+            .iter()
+            .flatten()
+            .map(|x| x.1)
+            .collect();
+        if before.len() < 3 {
+            continue;
+        }
+        let mid = before.len() / 2;
+        let median = *before.select_nth_unstable_by(mid, Real::total_cmp).1;
+        if r > SHOULDER_WIDE * median {
+            end = Some(k);
+            break;
+        }
+    }
+    let end = end?;
+    let axis: Vec<(Point3, Real)> = rings[..end].iter().rev().flatten().copied().collect();
+    (axis.len() >= 5).then_some(axis)
+}
+
+/// The arm on `q.side` of a mesh, from the hand farthest (along the
+/// surface) from the crotch whose shoulder lies on that side.
+pub(super) fn find_arm(m: &Mesh, q: &ArmQuery) -> Option<SurfaceArm> {
+    let pos = &m.positions;
+    let g = SurfaceGraph::new(m);
+    // The nearest vertex on an edge (a loose vertex reaches nothing).
+    let nearest = |p: Point3| {
+        (0..pos.len())
+            .filter(|&v| g.neighbours(v).next().is_some())
+            .min_by(|&a, &b| pos[a].distance(p).total_cmp(&pos[b].distance(p)))
+    };
+    let from_crotch = g.distances(nearest(q.crotch)? as u32);
+    let across = |v: Vec3| v - q.up * v.dot(q.up);
+    let hfrac = |p: Point3| (p.dot(q.up) - q.floor) / q.extent;
+    let areas = vertex_areas(m);
+    let candidates = extremities(&g, &from_crotch, pos, EXTREMITY_GAP * q.extent);
+    candidates
+        .into_iter()
+        // Not a foot, not the head top (on the trunk's line), far enough
+        // along the surface to be a hand.
+        .filter(|&v| hfrac(pos[v]) > 0.15)
+        .filter(|&v| across(pos[v] - q.head).norm() > 0.07 * q.extent)
+        .filter(|&v| from_crotch[v] > 0.45 * q.extent)
+        .take(6)
+        .find_map(|v| {
+            let axis = arm_from_tip(&g, m, &areas, v, q.extent)?;
+            let armpit = axis[0].0;
+            // The shoulder end must lie on the side asked for, above the
+            // crotch, and the arm must be longer than a hand.
+            let on_side = across(armpit - q.crotch).dot(q.side) > 0.03 * q.extent;
+            let above = armpit.dot(q.up) > q.crotch.dot(q.up) + 0.1 * q.extent;
+            let long = armpit.distance(pos[v]) > 0.2 * q.extent;
+            (on_side && above && long).then(|| SurfaceArm {
+                axis,
+                armpit,
+                tip: pos[v],
+            })
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::shapes;
+
+    #[test]
+    fn surface_distances_follow_the_edges() {
+        // A 3 × 3 vertex square of side 2 with one diagonal per cell.
+        let mut positions = Vec::new();
+        for j in 0..3 {
+            for i in 0..3 {
+                positions.push(Vec3::new(i as Real, j as Real, 0.0));
+            }
+        }
+        let mut triangles = Vec::new();
+        for j in 0..2u32 {
+            for i in 0..2u32 {
+                let a = j * 3 + i;
+                triangles.push([a, a + 1, a + 4]);
+                triangles.push([a, a + 4, a + 3]);
+            }
+        }
+        let m = Mesh {
+            positions,
+            normals: None,
+            triangles,
+        };
+        let g = SurfaceGraph::new(&m);
+        let d = g.distances(0);
+        assert!((d[8] - 2.0 * 2f64.sqrt()).abs() < 1e-12, "{}", d[8]);
+        assert!((d[2] - 2.0).abs() < 1e-12);
+        assert!((d[5] - (1.0 + 2f64.sqrt())).abs() < 1e-12);
+        assert_eq!(extremities(&g, &d, &m.positions, 0.5), vec![8]);
+        let a: Real = vertex_areas(&m).iter().sum();
+        assert!((a - 4.0).abs() < 1e-12);
+    }
+
+    /// A tube of radius 0.05 from its bottom cap's centre; above `flare`
+    /// its radius grows to three times (a shoulder) when `flare < 1`.
+    fn tube(flare: Real) -> (Mesh, usize) {
+        let mut m = shapes::cylinder(Vec3::ZERO, 0.05, 1.0, 81, 32);
+        for p in &mut m.positions {
+            if p.z > flare {
+                let s = 1.0 + 2.0 * ((p.z - flare) / 0.05).min(1.0);
+                *p = Vec3::new(p.x * s, p.y * s, p.z);
+            }
+        }
+        let tip = m.positions.len() - 2;
+        (m, tip)
+    }
+
+    #[test]
+    fn an_arm_ends_where_its_rings_widen() {
+        let (m, tip) = tube(1.0);
+        let g = SurfaceGraph::new(&m);
+        assert!(arm_from_tip(&g, &m, &vertex_areas(&m), tip, 1.0).is_none());
+        let (m, tip) = tube(0.4);
+        let g = SurfaceGraph::new(&m);
+        let axis = arm_from_tip(&g, &m, &vertex_areas(&m), tip, 1.0).unwrap();
+        // From the shoulder end to the hand, on the tube's line, the rings
+        // the tube's radius.
+        let top = axis[0].0;
+        assert!(top.z > 0.3 && top.z < 0.45, "{top:?}");
+        assert!(axis.last().unwrap().0.z < 0.05);
+        for (c, r) in &axis[..axis.len() - 2] {
+            assert!(c.x.hypot(c.y) < 1e-3, "{c:?}");
+            assert!((r - 0.05).abs() < 0.01 || c.z > 0.35, "{c:?} {r}");
+        }
+    }
+}

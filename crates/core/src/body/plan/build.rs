@@ -1,550 +1,15 @@
-//! Cutting, fitting, refining and skinning each part (pipeline steps 2-3).
+//! Building each part from its cuts: its end (a dome that reaches the
+//! tip, the end's sections and dome shape checked against the input), the
+//! implausible sections dropped, and the adaptive refinement.
 
 use super::*;
 use crate::geom::parallel::parallel_map;
 use crate::surface::cap::{dome_cap, Cap, DomeAxis};
 use crate::surface::part::Segment;
 
-/// One cut-and-fitted section.
-pub(super) struct Cut {
-    pub(super) at: Real,
-    pub(super) fit: LoopFit,
-    pub(super) area: Real,
-}
-
-/// Cuts and fits `part` at `at` (through the cutter's shared slicers).
-pub(super) fn cut_and_fit(
-    cutter: &Cutter<'_>,
-    name: PartName,
-    at: Real,
-    opts: &ReconstructOptions,
-    shoulders: Shoulders,
-) -> Result<Cut, String> {
-    let (body, seg) = (cutter.body(), cutter.segmentation());
-    // Torso, head and legs (with the feet) are cut across the body's up
-    // axis: parallel planes never cross, and a horizontal cut below the
-    // ankle is the foot's outline. Arms are cut across their own axis.
-    let normal = match name {
-        PartName::LeftArm | PartName::RightArm => None,
-        _ => Some(seg.frame.up),
-    };
-    let mut cut = cutter
-        .cut(name, at, normal, true, &opts.segment)
-        .map_err(|e| e.to_string())?;
-    if name == PartName::Torso {
-        cut.outline = torso_without_arms(seg, cut.outline, shoulders)
-            .ok_or_else(|| "nothing of the torso is left beside the arms".to_string())?;
-    }
-    let base = FitOptions {
-        reference: Some(seg.frame.front),
-        normal: Some(cut.plane.normal),
-        allow_non_planar: true,
-        ..opts.fit
-    };
-    let fo = match body {
-        BodyGeometry::Cloud(_) => scan_fit_options(&FitOptions {
-            ea: base.ea * opts.scan_tolerance_factor,
-            em: base.em * opts.scan_tolerance_factor,
-            ..base
-        }),
-        BodyGeometry::Mesh(_) => base,
-    };
-    // A mesh's section is a polygon whose edges lie on the surface: the
-    // curve is fitted to its corners and its edges' midpoints, not to the
-    // corners alone. Through the corners only, a curve bulges past every
-    // chord (each arc holds its edge's sagitta): the model's volume came
-    // out 0.99 / 1.10 / 1.07 % over the base / male / female meshes'
-    // (over the 1 % issue 6 allows), with the midpoints 0.69 / 0.78 /
-    // 0.74 %. The tape girths, which rest on the corners, come out a
-    // little shorter (thigh −2.0 → −3.6 mm on the base mesh, all 36 still
-    // within 4 mm); corner, midpoint and third points (three per edge)
-    // shorten them further (thigh −3.8 mm) for little volume (0.63-0.73 %).
-    // A cloud's outline is a contour of occupied cells, not surface: its
-    // corners only.
-    let points: std::borrow::Cow<'_, [Point3]> = match body {
-        BodyGeometry::Mesh(_) => cut.outline.with_edge_midpoints().into(),
-        BodyGeometry::Cloud(_) => (&cut.outline.points[..]).into(),
-    };
-    let mut fit = fit_untangled(&points, &fo)?;
-    // Tape girths are taken below the armpits (chest, waist, hip).
-    if name == PartName::Torso
-        && matches!(body, BodyGeometry::Mesh(_))
-        && cut.plane.origin.dot(seg.frame.up) < seg.armpit_level()
-    {
-        fit = with_tape_girth(fit, &cut.outline, &points, &fo, TORSO_TAPE_TOLERANCE);
-    }
-    Ok(Cut {
-        at,
-        fit,
-        area: cut.outline.area,
-    })
-}
-
-/// The largest relative difference between a torso section's tape girth
-/// (the perimeter of the fitted curve's convex hull) and its loop's that
-/// the order choice accepts on a mesh (see [`with_tape_girth`]): 4 mm on a
-/// 1 m girth, the agreement issue 6 asks of girths. (At 0.5 % the female
-/// mesh's chest came out 4.1 mm short; measured.)
-pub(super) const TORSO_TAPE_TOLERANCE: Real = 0.004;
-
-/// Raises the order of a torso section's fit until its tape girth (the
-/// perimeter of the convex hull of 256 points of the curve) is within
-/// `tolerance` of the loop's own tape girth, or the order limit is reached
-/// (then the best of the orders tried is kept). Chest, waist and hip
-/// girths are tape girths of torso sections (issue 6): a curve meeting
-/// E_a and E_M can still round off the peaks a tape spans (measured: the
-/// female mesh's chest section at order 12 meets E_a 1.00 %, E_M 4.9 %,
-/// and its tape girth is 5.4 mm short of the mesh's). Only the torso
-/// below the armpits (where tape girths are taken) is checked, and only on
-/// meshes: a scan's loop is noisy, and its hull follows the noise outward.
-fn with_tape_girth(
-    fit: LoopFit,
-    outline: &SectionLoop,
-    points: &[Point3],
-    fo: &FitOptions,
-    tolerance: Real,
-) -> LoopFit {
-    use crate::section::girth::polygon_tape_girth;
-    let target = polygon_tape_girth(&outline.plane_points());
-    if !(target > 0.0) {
-        return fit;
-    }
-    let miss =
-        |f: &LoopFit| (polygon_tape_girth(&f.curve.sample_plane(256)) - target).abs() / target;
-    let mut best = (miss(&fit), fit);
-    let limit = fo.max_order.min(points.len().saturating_sub(1) / 2);
-    let mut order = best.1.order;
-    while best.0 > tolerance && order < limit {
-        order += 1;
-        let fixed = FitOptions {
-            order: crate::curve::fit::OrderChoice::Fixed(order),
-            ..*fo
-        };
-        let Ok(f) = fit_loop(points, &fixed) else {
-            break;
-        };
-        let m = miss(&f);
-        if m < best.0 {
-            best = (m, f);
-        }
-    }
-    best.1
-}
-
-/// A torso loop that runs out along an arm (arms held out sideways, where
-/// a horizontal cut meets the arm lengthwise) is clipped at the arm's
-/// boundary plane: through the armpit, normal to the arm's direction
-/// (armpit → wrist). It runs out along the arm when it encloses (in its
-/// plane) a point of the arm's axis lying more than a quarter of the arm's
-/// length (and one arm diameter) beyond that plane.
-///
-/// A hanging arm's axis never projects into a torso loop, but above the
-/// armpit a horizontal cut still meets the arm's root obliquely and runs a
-/// long way down it (the male mesh's loop 5 mm above the armpit reached
-/// ±303 mm against the chest's ±177 mm below it): the skin between the two
-/// stood out as a thin flange past the arm. Above the armpit the loop is
-/// therefore clipped:
-///
-/// * where the arm ends on the torso's side through a transition
-///   (`shoulders`, [`hanging_shoulder`]): at the side plane, vertical
-///   through the armpit with normal `n` (the horizontal part of the arm's
-///   start direction), moved `δ(h) = SIDE_OVERLAP · min(1, h / SIDE_RAMP)`
-///   past it (`h` the height above the armpit, fractions of `H`; from
-///   [`SIDE_BELOW`] below the armpit, at the plane itself): the half
-///   space `(p − a − δ H n)·n > 0` is left out. The transition starts on
-///   the torso's surface in the side plane itself and covers the straight
-///   side;
-/// * otherwise (an arm held out part way, or one whose transition strayed
-///   from the input): at the plane of the arm's first section (normal
-///   `t₀`, the axis tangent at its shoulder end `p₀`) moved
-///   [`SHOULDER_OVERLAP`] into the arm, `(p − p₀ − δ H t₀)·t₀ > 0` left
-///   out: the arm's own sections model what lies past its first one, and
-///   the torso's straight side sits inside the arm's tube.
-pub(super) fn torso_without_arms(
-    seg: &Segmentation,
-    outline: SectionLoop,
-    shoulders: Shoulders,
-) -> Option<SectionLoop> {
-    let mut out = outline;
-    for (arm, armpit, wrist) in [
-        (
-            PartName::LeftArm,
-            LandmarkKind::LeftArmpit,
-            LandmarkKind::LeftWrist,
-        ),
-        (
-            PartName::RightArm,
-            LandmarkKind::RightArmpit,
-            LandmarkKind::RightWrist,
-        ),
-    ] {
-        let (Some(axis), Some(a)) = (seg.part(arm), landmark(seg, armpit)) else {
-            continue;
-        };
-        let far = landmark(seg, wrist).or_else(|| axis.points.last().copied());
-        let Some(d) = far.and_then(|w| (w - a).normalized()) else {
-            continue;
-        };
-        let mut radii = axis.radii.clone();
-        radii.sort_by(Real::total_cmp);
-        let r = radii.get(radii.len() / 2).copied().unwrap_or(0.0);
-        // A shoulder's own loops hold the upper arm's first decimetre
-        // (measured: clipping there cost the A-pose meshes 0.1-0.4 mm of
-        // p95); a loop along the arm reaches much further.
-        let reach = (2.0 * r).max(0.25 * axis.length());
-        let step = (axis.points.len() / 24).max(1);
-        // The loop projected once, not once per axis point (`contains`).
-        let poly = out.plane_points();
-        let runs_out = axis.points.iter().step_by(step).any(|&p| {
-            (p - a).dot(d) > reach
-                && crate::section::mesh::point_in_polygon(out.frame.to_plane(p), &poly)
-        });
-        let level = (out.frame.origin - a).dot(seg.frame.up) / seg.height;
-        let side =
-            hanging_shoulder(seg, arm).filter(|_| shoulders.side_of(arm) && level >= -SIDE_BELOW);
-        if runs_out {
-            out = out.clipped(a, d)?;
-        } else if let Some(sh) = side {
-            // The arm's transition ends on the torso's shoulder, cut by
-            // the side plane (vertical, through the armpit): the loop
-            // reaches SIDE_OVERLAP past it, ramped up from nothing at the
-            // armpit over SIDE_RAMP of height (and no further than the
-            // plane just below the armpit).
-            let reach = SIDE_OVERLAP * (level / SIDE_RAMP).clamp(0.0, 1.0);
-            out = out.clipped(sh.armpit + sh.normal * (reach * seg.height), sh.normal)?;
-        } else if level >= 0.0 {
-            // No side transition: the torso's loop stops where the arm
-            // starts (its first section, the shoulder end of its axis),
-            // reaching SHOULDER_OVERLAP into it so that the straight side
-            // lies inside the arm's tube. (Below the armpit the arm is a
-            // loop of its own.)
-            if let Some((p0, t0)) = axis.point_and_tangent(0.0) {
-                out = out.clipped(p0 + t0 * (SHOULDER_OVERLAP * seg.height), t0)?;
-            }
-        }
-    }
-    Some(out)
-}
-
-/// How far past the shoulder's side plane (vertical, through the armpit)
-/// a torso loop above a hanging arm's armpit reaches (fraction of the
-/// height), from [`SIDE_RAMP`] above the armpit (less below it, in
-/// proportion). Too close, the torso's straight side shows above a
-/// transition that sags over the shoulder; from 0.01 on the results hardly
-/// move.
-pub(super) const SIDE_OVERLAP: Real = 0.015;
-
-/// Height above the armpit (fraction of the height) over which a torso
-/// loop's reach past the side plane grows from nothing to
-/// [`SIDE_OVERLAP`]. Without it the loop just above the armpit reached past
-/// the plane and the one just below not at all: the skin stepped between
-/// them and a line ran across chest and back.
-pub(super) const SIDE_RAMP: Real = 0.02;
-
-/// How far below a side arm's armpit (fraction of the height) the torso's
-/// loops are clipped at the side plane itself. A scan's armpit landmark
-/// is a slab's height: a torso loop just below it can still hold part of
-/// the arm. The trunk lies inside the plane just below the armpit (the
-/// plane passes through it).
-pub(super) const SIDE_BELOW: Real = 0.005;
-
-/// Which hanging arms end on the torso's side through a transition (left,
-/// right; [`hanging_shoulder`]). The torso's loops above such an arm's
-/// armpit stop just past the side plane ([`torso_without_arms`]); above
-/// another arm's, just inside the arm's first section.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(super) struct Shoulders {
-    pub(super) side: [bool; 2],
-}
-
-impl Shoulders {
-    /// Every hanging arm on the side.
-    pub(super) fn of(seg: &Segmentation) -> Shoulders {
-        Shoulders {
-            side: [PartName::LeftArm, PartName::RightArm]
-                .map(|a| hanging_shoulder(seg, a).is_some()),
-        }
-    }
-
-    /// Whether `arm` ends on the torso's side.
-    pub(super) fn side_of(self, arm: PartName) -> bool {
-        match arm {
-            PartName::LeftArm => self.side[0],
-            PartName::RightArm => self.side[1],
-            _ => false,
-        }
-    }
-}
-
-/// An arm within [`HANGING`] of straight down at its shoulder end.
-pub(super) struct HangingShoulder {
-    /// The arm's armpit landmark.
-    pub(super) armpit: Point3,
-    /// The horizontal part of the arm's start direction, unit: the side
-    /// plane's normal, pointing out of the torso.
-    pub(super) normal: Vec3,
-    /// The arm axis' shoulder end and its direction there (toward the
-    /// hand).
-    pub(super) start: Point3,
-    pub(super) direction: Vec3,
-}
-
-/// The cosine of the largest angle from straight down (about 66°) of an
-/// arm that hangs (its transition ends on the torso's side,
-/// [`HangingShoulder`]): arms of a wide body lie between 60° and 66° and
-/// take transitions; a T-pose's arms (about 90°) are held out.
-pub(super) const HANGING: Real = 0.4;
-
-/// The shoulder of a hanging arm (`None` for another part, an arm held
-/// out, or one whose armpit was not found).
-pub(super) fn hanging_shoulder(seg: &Segmentation, arm: PartName) -> Option<HangingShoulder> {
-    let kind = match arm {
-        PartName::LeftArm => LandmarkKind::LeftArmpit,
-        PartName::RightArm => LandmarkKind::RightArmpit,
-        _ => return None,
-    };
-    let armpit = landmark(seg, kind)?;
-    let (start, direction) = seg.part(arm)?.point_and_tangent(0.0)?;
-    let up = seg.frame.up;
-    if !(direction.dot(up) < -HANGING) {
-        return None;
-    }
-    let normal = (direction - up * direction.dot(up)).normalized()?;
-    Some(HangingShoulder {
-        armpit,
-        normal,
-        start,
-        direction,
-    })
-}
-
-/// How far past an arm's first section a torso loop above the armpit
-/// reaches (fraction of the height; the clip of [`torso_without_arms`]
-/// for an arm without a side transition). At 0 the straight side is the
-/// arm's first section itself, skin of both pieces; from 0.04 the clip
-/// misses the loops; 0.015 keeps the torso's flange off the arm.
-pub(super) const SHOULDER_OVERLAP: Real = 0.015;
-
-/// [`fit_loop`], untangling a loop that crosses itself: where edges `i`
-/// and `j` cross, the shorter run of points between them (a small twist of
-/// the outline, e.g. where a mesh's toes touch) is dropped and the fit
-/// retried, at most 8 times.
-pub(super) fn fit_untangled(points: &[Point3], fo: &FitOptions) -> Result<LoopFit, String> {
-    // The fit reports crossing edges in its cleaned list (consecutive
-    // duplicates and a repeated closing point dropped): clean alike.
-    let mut pts: Vec<Point3> = Vec::with_capacity(points.len());
-    for p in points {
-        if pts.last() != Some(p) {
-            pts.push(*p);
-        }
-    }
-    while pts.len() > 1 && pts.first() == pts.last() {
-        pts.pop();
-    }
-    let mut tries = 0;
-    loop {
-        match fit_loop(&pts, fo) {
-            Err(crate::curve::fit::FitError::SelfCrossing { first, second, .. })
-                if tries < 8 && pts.len() > 8 =>
-            {
-                let n = pts.len();
-                let (i, j) = (first.min(second), first.max(second).min(n - 1));
-                pts = if j - i <= n / 2 {
-                    pts[..=i].iter().chain(&pts[j + 1..]).copied().collect()
-                } else {
-                    pts[i + 1..=j].to_vec()
-                };
-                tries += 1;
-            }
-            other => return other.map_err(|e| e.to_string()),
-        }
-    }
-}
-
-/// Arc-length fraction of the axis point nearest `p`.
-pub(super) fn fraction_of(axis: &PartAxis, p: Point3) -> Real {
-    let total = axis.length();
-    if !(total > 0.0) {
-        return 0.0;
-    }
-    let mut acc = 0.0;
-    let mut best = (Real::INFINITY, 0.0);
-    for (k, q) in axis.points.iter().enumerate() {
-        if k > 0 {
-            acc += axis.points[k - 1].distance(*q);
-        }
-        let d = q.distance(p);
-        if d < best.0 {
-            best = (d, acc / total);
-        }
-    }
-    best.1
-}
-
-/// Evenly spaced fractions from `t0` to `t1` at most `step` apart (both
-/// ends included).
-pub(super) fn fractions(t0: Real, t1: Real, step: Real) -> Vec<Real> {
-    if !(t1 > t0) {
-        return vec![t0];
-    }
-    let n = (((t1 - t0) / step).ceil() as usize).max(1);
-    (0..=n)
-        .map(|k| t0 + (t1 - t0) * k as Real / n as Real)
-        .collect()
-}
-
-/// The sections of a part, plus the part's axis length.
-pub(super) struct Plan {
-    pub(super) name: PartName,
-    pub(super) cuts: Vec<Cut>,
-    pub(super) start_cap: CapKind,
-    pub(super) end_cap: CapKind,
-    /// For a dome end: the tip the dome should reach.
-    pub(super) tip: Option<Point3>,
-    /// How the torso meets the arms (torso only).
-    pub(super) shoulders: Shoulders,
-}
-
-/// Cuts at every fraction, skipping (with a warning) those that fail.
-pub(super) fn cut_all(
-    cutter: &Cutter<'_>,
-    name: PartName,
-    ts: &[Real],
-    opts: &ReconstructOptions,
-    shoulders: Shoulders,
-    warnings: &mut Vec<String>,
-) -> Vec<Cut> {
-    // Independent cuts: split over the cores, results in order.
-    let cuts = parallel_map(ts, 4, |run| {
-        run.iter()
-            .map(|&t| cut_and_fit(cutter, name, t, opts, shoulders))
-            .collect()
-    });
-    let mut out = Vec::with_capacity(ts.len());
-    for (&t, cut) in ts.iter().zip(cuts) {
-        match cut {
-            Ok(c) => out.push(c),
-            Err(e) => warnings.push(format!("{name}: section at {t:.3} skipped: {e}")),
-        }
-    }
-    out
-}
-
-/// Sections up to a rounded end: evenly from `t0` while the loop keeps at
-/// least `end_area_fraction` of the largest loop seen after `watch_from`.
-pub(super) fn cut_to_rounded_end(
-    cutter: &Cutter<'_>,
-    name: PartName,
-    t0: Real,
-    watch_from: Real,
-    step: Real,
-    opts: &ReconstructOptions,
-    warnings: &mut Vec<String>,
-) -> Vec<Cut> {
-    let mut out: Vec<Cut> = Vec::new();
-    let mut largest: Real = 0.0;
-    let mut failed = 0;
-    let ts = fractions(t0, 1.0, step);
-    let ts = &ts[..ts.len().saturating_sub(1)];
-    // Cut a few planes ahead over the cores, then walk them in order: the
-    // cuts past the end (at most one batch) are made and dropped.
-    let batch = rayon::current_num_threads().clamp(1, 8);
-    for chunk in ts.chunks(batch) {
-        let cuts = parallel_map(chunk, 1, |run| {
-            run.iter()
-                .map(|&t| cut_and_fit(cutter, name, t, opts, Shoulders::default()))
-                .collect()
-        });
-        for (&t, c) in chunk.iter().zip(cuts) {
-            let c = match c {
-                Ok(c) => c,
-                Err(e) => {
-                    // Past `watch_from` a failed cut usually means the part
-                    // has ended, but a single one may be a flaw of the input
-                    // (a foot outline crossing itself where the toes touch,
-                    // on the female mesh: its soles were left 1-2 cm
-                    // uncovered): skip one, stop at the second in a row.
-                    if t >= watch_from {
-                        failed += 1;
-                        if failed >= 2 {
-                            return out;
-                        }
-                    }
-                    warnings.push(format!("{name}: section at {t:.3} skipped: {e}"));
-                    continue;
-                }
-            };
-            failed = 0;
-            if t >= watch_from {
-                if largest > 0.0 && c.area < opts.end_area_fraction * largest {
-                    return out;
-                }
-                largest = largest.max(c.area);
-            }
-            out.push(c);
-        }
-    }
-    out
-}
-
-/// The leg's axis continued from the ankle straight down to `floor + lift`
-/// along `−up`, in steps of `step`.
-pub(super) fn extend_to_floor(
-    axis: &PartAxis,
-    up: Vec3,
-    floor: Real,
-    lift: Real,
-    step: Real,
-) -> PartAxis {
-    let mut a = axis.clone();
-    let Some(&last) = a.points.last() else {
-        return a;
-    };
-    let r = a.radii.last().copied().unwrap_or(0.0);
-    let drop = last.dot(up) - (floor + lift);
-    if drop > step {
-        let n = (drop / step).ceil() as usize;
-        for k in 1..=n {
-            a.points.push(last - up * (drop * k as Real / n as Real));
-            a.radii.push(r);
-        }
-    }
-    a
-}
-
-/// The first arc-length fraction where the axis reaches `level` along `up`
-/// (going up when `rising`, down otherwise); 0 when it starts beyond it.
-pub(super) fn fraction_at_level(axis: &PartAxis, up: Vec3, level: Real, rising: bool) -> Real {
-    let total = axis.length();
-    if !(total > 0.0) {
-        return 0.0;
-    }
-    let beyond = |p: &Point3| {
-        if rising {
-            p.dot(up) >= level
-        } else {
-            p.dot(up) <= level
-        }
-    };
-    let mut acc = 0.0;
-    for (k, p) in axis.points.iter().enumerate() {
-        if k > 0 {
-            acc += axis.points[k - 1].distance(*p);
-        }
-        if beyond(p) {
-            return (acc / total).min(0.5);
-        }
-    }
-    0.0
-}
-
-pub(super) fn landmark(seg: &Segmentation, kind: LandmarkKind) -> Option<Point3> {
-    seg.landmark(kind).map(|l| l.position)
-}
-
 /// Builds a part from its cuts, dropping a section whose plane crosses its
 /// neighbour's inside the curves, and retrying.
-pub(super) fn build_part(
+pub(in crate::body) fn build_part(
     plan: Plan,
     opts: &ReconstructOptions,
     scan: bool,
@@ -735,7 +200,7 @@ fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
 /// `tip` parallel to `c`'s: the distance `d` of `tip` from `c`'s plane over
 /// `c`'s mean radius `r = √(A/π)`, clamped to `[0.02, 4]`; `None` unless
 /// both are positive.
-pub(super) fn height_to_reach(c: &TrigCurve, tip: Point3) -> Option<Real> {
+pub(in crate::body) fn height_to_reach(c: &TrigCurve, tip: Point3) -> Option<Real> {
     let r = (c.area().abs() / std::f64::consts::PI).sqrt();
     let d = (tip - c.frame.origin)
         .dot(c.frame.e1.cross(c.frame.e2))
@@ -947,14 +412,14 @@ fn cap_end_error(segs: &[Segment], cap: &Cap, input: &InputDistance, near: &[Poi
 }
 
 /// Distances to the input: its surface (mesh) or its nearest point (cloud).
-pub(super) enum InputDistance<'a> {
+pub(in crate::body) enum InputDistance<'a> {
     Mesh(MeshDistance<'a>),
     Cloud(PointGrid<'a>),
 }
 
 impl InputDistance<'_> {
     /// The distance of each point (see [`MeshDistance::distances`]).
-    pub(super) fn distances(&self, points: &[Point3]) -> Vec<Real> {
+    pub(in crate::body) fn distances(&self, points: &[Point3]) -> Vec<Real> {
         match self {
             InputDistance::Mesh(m) => m.distances(points),
             InputDistance::Cloud(g) => g.distances(points),
@@ -968,7 +433,7 @@ impl InputDistance<'_> {
 /// (A loop clipped at an arm, [`torso_without_arms`], whose straight side
 /// runs far inside the body is dropped by the same rule: kept, its side
 /// showed as a wall in the armpit, T-pose p95 6.5 -> 8.9 mm.)
-pub(super) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
+pub(in crate::body) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
     let mut d = input.distances(&c.fit.curve.sample(64));
     d.sort_by(Real::total_cmp);
     d[48]
@@ -1014,7 +479,7 @@ fn curve_points(curve: &crate::curve::trig::SpaceCurve, n: usize) -> Vec<Point3>
 /// half-length `h` is only measured when `|q − m| < d + h` (every point of
 /// the edge lies within `h` of `m`); the edges sorted by `m_x` limit the
 /// candidates to `|m_x − q_x| ≤ d + h_max` by binary search.
-pub(super) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) -> Real {
+pub(in crate::body) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) -> Real {
     let f = &cut.fit.curve.frame;
     let n = 256;
     let poly: Vec<(Real, Real)> = curve_points(curve, n)
@@ -1082,7 +547,7 @@ pub(super) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) -> Real {
 
 /// A fit far outside its tolerances (three times either): a loop the
 /// section picked wrongly or a hole the fit could not bridge.
-pub(super) fn wild(c: &Cut, opts: &ReconstructOptions) -> bool {
+pub(in crate::body) fn wild(c: &Cut, opts: &ReconstructOptions) -> bool {
     !c.fit.met
         && (c.fit.errors.ea > 3.0 * opts.fit.ea * opts.scan_tolerance_factor
             || c.fit.errors.em > 3.0 * opts.fit.em * opts.scan_tolerance_factor)
@@ -1092,7 +557,7 @@ pub(super) fn wild(c: &Cut, opts: &ReconstructOptions) -> bool {
 /// the median of its (up to four) nearest neighbours' — a wrong loop
 /// picked where a scan's slab broke up (armpits, fingers) — or a wild fit
 /// (see [`wild`]).
-pub(super) fn drop_outliers(
+pub(in crate::body) fn drop_outliers(
     mut plan: Plan,
     opts: &ReconstructOptions,
     warnings: &mut Vec<String>,
@@ -1137,7 +602,7 @@ pub(super) fn drop_outliers(
 /// 90th percentile of the loop points' distances, see [`stray`]), the
 /// new section is added; repeated for [`ReconstructOptions::refine_rounds`]
 /// rounds, never closer than [`ReconstructOptions::min_spacing`] × `H`.
-pub(super) fn refine(
+pub(in crate::body) fn refine(
     cutter: &Cutter<'_>,
     mut plan: Plan,
     opts: &ReconstructOptions,
@@ -1260,152 +725,4 @@ pub(super) fn refine(
         )?;
     }
     Ok(built)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::section::girth::polygon_tape_girth;
-
-    /// A body 1.7 high (up = z, left = x) with a left arm hanging at 45°
-    /// from a shoulder end at (0.2, 0, 1.3), its armpit at 1.27: a torso
-    /// loop above the armpit that runs out to ±0.26 loses what lies past
-    /// the arm's first section moved `SHOULDER_OVERLAP · H` into the arm
-    /// (its straight side on that plane) when the arm has no side
-    /// transition, and what lies past the side plane through the armpit
-    /// when it has; the right side (no arm found) and a loop below the
-    /// armpit are left alone.
-    #[test]
-    fn a_torso_loop_above_the_armpit_stops_inside_the_hanging_arm() {
-        let h = 1.7;
-        let landmark = |kind, position: Point3| crate::anatomy::Landmark {
-            kind,
-            position,
-            height_fraction: position.z / h,
-            confidence: 1.0,
-            how: "test",
-        };
-        let p0 = Point3::new(0.2, 0.0, 1.3);
-        let t0 = Vec3::new(1.0, 0.0, -1.0).normalized().unwrap();
-        let wrist = p0 + t0 * 0.5;
-        let seg = Segmentation {
-            frame: crate::anatomy::BodyFrame {
-                up: Vec3::new(0.0, 0.0, 1.0),
-                front: Vec3::new(0.0, -1.0, 0.0),
-                left: Vec3::new(1.0, 0.0, 0.0),
-                origin: Point3::new(0.0, 0.0, 0.0),
-            },
-            height: h,
-            slice_spacing: 0.005,
-            point_spacing: None,
-            landmarks: vec![
-                landmark(LandmarkKind::LeftArmpit, Point3::new(0.18, 0.0, 1.27)),
-                landmark(LandmarkKind::LeftWrist, wrist),
-            ],
-            parts: vec![PartAxis {
-                name: PartName::LeftArm,
-                points: (0..=50).map(|i| p0 + t0 * (0.01 * i as Real)).collect(),
-                radii: vec![0.045; 51],
-                start: LandmarkKind::LeftShoulder,
-                end: LandmarkKind::LeftHandTip,
-            }],
-            warnings: Vec::new(),
-            sorted_up: Default::default(),
-        };
-        let stadium = |z: Real, half: Real| {
-            let points: Vec<Point3> = (0..400)
-                .map(|i| {
-                    let t = std::f64::consts::TAU * i as Real / 400.0;
-                    Point3::new(half * t.cos(), 0.1 * t.sin(), z)
-                })
-                .collect();
-            SectionLoop::from_points(points, Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0))
-                .unwrap()
-        };
-        let extent = |l: &SectionLoop| {
-            let xs = l.points.iter().map(|p| p.x);
-            (
-                xs.clone().fold(Real::INFINITY, Real::min),
-                xs.fold(Real::NEG_INFINITY, Real::max),
-            )
-        };
-        // Above the armpit: the plane (p − p₀ − δ t₀)·t₀ = 0 meets z = 1.29
-        // at x = 0.2 + δ √2 + (1.29 − 1.3) (45°: one to one).
-        let overlap = Shoulders { side: [false; 2] };
-        let above = torso_without_arms(&seg, stadium(1.29, 0.26), overlap).unwrap();
-        let origin = p0 + t0 * (SHOULDER_OVERLAP * h);
-        let (lo, hi) = extent(&above);
-        let x = 0.2 + SHOULDER_OVERLAP * h * std::f64::consts::SQRT_2 - 0.01;
-        assert!((hi - x).abs() < 1e-12, "{hi} vs {x}");
-        assert!((lo + 0.26).abs() < 1e-12, "{lo}");
-        assert!(above.points.iter().all(|&p| (p - origin).dot(t0) <= 1e-12));
-        // Below the armpit the arm is a loop of its own: nothing to clip.
-        let below = stadium(1.25, 0.26);
-        assert_eq!(
-            torso_without_arms(&seg, below.clone(), overlap).unwrap(),
-            below
-        );
-        // With the arm's transition on the torso's side: the loop stops
-        // past the vertical plane through the armpit (x = 0.18), by
-        // SIDE_OVERLAP · H ramped over SIDE_RAMP · H above the armpit.
-        let side = Shoulders::of(&seg);
-        assert_eq!(side.side, [true, false]);
-        let above = torso_without_arms(&seg, stadium(1.29, 0.26), side).unwrap();
-        let (lo, hi) = extent(&above);
-        let reach = SIDE_OVERLAP * h * ((0.02 / h) / SIDE_RAMP).min(1.0);
-        assert!((hi - (0.18 + reach)).abs() < 1e-12, "{hi}");
-        assert!((lo + 0.26).abs() < 1e-12, "{lo}");
-        assert_eq!(
-            torso_without_arms(&seg, below.clone(), side).unwrap(),
-            below
-        );
-        // Just below the armpit (within SIDE_BELOW), a loop still holding
-        // part of the arm stops at the side plane itself; without the side
-        // transition it is left alone.
-        let just_below = stadium(1.268, 0.26);
-        let (_, hi) = extent(&torso_without_arms(&seg, just_below.clone(), side).unwrap());
-        assert!((hi - 0.18).abs() < 1e-12, "{hi}");
-        assert_eq!(
-            torso_without_arms(&seg, just_below.clone(), overlap).unwrap(),
-            just_below
-        );
-    }
-
-    /// A loop with two narrow bumps (a bust seen from above): the fit at
-    /// the order E_a and E_M allow rounds the bumps off and its tape girth
-    /// falls short; [`with_tape_girth`] raises the order until the tape
-    /// girth is within the tolerance, and leaves a loop that already meets
-    /// it alone.
-    #[test]
-    fn the_tape_girth_check_raises_the_order_until_the_tape_agrees() {
-        let bump = |t: Real, c: Real| (t - c).cos().max(0.0).powi(150);
-        let points: Vec<Point3> = (0..400)
-            .map(|i| {
-                let t = std::f64::consts::TAU * i as Real / 400.0;
-                let r = 0.12 * (1.0 + 0.3 * bump(t, 1.3) + 0.3 * bump(t, 1.85));
-                Vec3::new(1.6 * r * t.cos(), r * t.sin(), 0.0)
-            })
-            .collect();
-        let outline = SectionLoop::from_points(points.clone(), Vec3::X, Vec3::Y).unwrap();
-        let fo = FitOptions {
-            normal: Some(Vec3::Z),
-            ..FitOptions::default()
-        };
-        let fit = fit_loop(&points, &fo).unwrap();
-        let target = polygon_tape_girth(&outline.plane_points());
-        let miss =
-            |f: &LoopFit| (polygon_tape_girth(&f.curve.sample_plane(256)) - target).abs() / target;
-        assert!(
-            miss(&fit) > 0.004,
-            "the plain fit's tape miss {}",
-            miss(&fit)
-        );
-        let order = fit.order;
-        let raised = with_tape_girth(fit, &outline, &points, &fo, 0.004);
-        assert!(raised.order > order);
-        assert!(miss(&raised) <= 0.004, "{}", miss(&raised));
-        // Already within: unchanged.
-        let again = with_tape_girth(raised.clone(), &outline, &points, &fo, 0.004);
-        assert_eq!(again.order, raised.order);
-    }
 }

@@ -392,7 +392,7 @@ pub(super) fn measure_with(
         },
         parts: part_reports(model),
         parts_found: seg.parts.iter().map(|p| p.name).collect(),
-        joints: estimate_joints(seg),
+        joints: estimate_joints(body, seg),
         warnings,
     })
 }

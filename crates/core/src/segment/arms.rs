@@ -434,10 +434,8 @@ impl Landmarking<'_> {
 
 /// How much wider than the arm's median loop (radius ratio) a loop of a
 /// sideways arm's branch near the armpit may be and still start its axis
-/// (see [`Landmarking::lateral_arm`]). Measured on the built-in body
-/// raised to a T-pose (`pose_variants`), scan RMS / p95: 1.5 → 7.55 /
-/// 20.4 mm, 1.25 → 6.34 / 15.9, 1.15 → 6.12 / 13.9, 1.1 → 6.14 / 14.0 (the
-/// mesh 3.58-3.63 mm throughout); without the rule 7.66 / 24.7.
+/// (see [`Landmarking::lateral_arm`]): wider loops cut the shoulder
+/// lengthwise.
 const LATERAL_ARM_WIDE: Real = 1.15;
 
 /// An arm found in slices across the body, or on the surface.

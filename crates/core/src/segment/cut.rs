@@ -542,13 +542,6 @@ const ARMPIT_BAND: Real = 0.05;
 
 /// ... and how far above them (the landmark sits where the slices' loops
 /// join; a scan's slab still holds the rings touching a little higher).
-/// Measured with `reconstruct_real` and `pose_variants` at 0, 0.005 and
-/// 0.01 (0.01 tried first): at 0 the virtual scans barely move; at 0.005
-/// the four shared scans are best (male, base, female virtual and external
-/// RMS 2.63 / 2.85 / 2.44 / 3.92 mm) but the shorter-and-wider scan's p95
-/// goes 8.4 -> 10.8 mm; at 0.01 every pose variant's scan improves and the
-/// base virtual scan's p95 goes 5.17 -> 6.26 mm (a shelf where the torso's
-/// last armless section meets its shoulder section). Kept: 0.01.
 const ARMPIT_ABOVE: Real = 0.01;
 
 /// An arm's axis point: its index along the axis, position and radius.

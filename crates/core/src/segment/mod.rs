@@ -217,9 +217,8 @@ pub struct SegmentOptions {
     /// Closing radius (cells) of the graph's occupancy images. Default 0:
     /// cells of twice the spacing are already contiguous on a scanned
     /// surface, and any closing bridges the narrow gap between the thighs
-    /// below the crotch (measured on virtual scans: a closing of one cell
-    /// put the crotch 3 % of the height low). Rings broken by holes become
-    /// arcs, which the graph's pruning absorbs.
+    /// below the crotch (putting the crotch low). Rings broken by holes
+    /// become arcs, which the graph's pruning absorbs.
     pub graph_closing: usize,
 }
 

@@ -146,11 +146,9 @@ pub(super) fn slice_along_axis(
         }
         // The reference area is the largest loop, but at most twice the
         // 95th percentile of the slices' largest loops: a horizontal slice
-        // along arms held out sideways is several times the trunk's area
-        // (measured 6.6 times the 95th percentile on a T-pose scan), and
-        // against it a scan's ankles fell out of the graph and took the
-        // feet with them. Standing bodies' largest loops (hips, chest) are
-        // 1.02-1.40 times that percentile, so they keep the largest.
+        // along arms held out sideways is several times the trunk's area,
+        // and against it a scan's ankles fall out of the graph; a standing
+        // body's largest loop (hips, chest) is well within twice it.
         let mut per_slice: Vec<Real> = raw
             .iter()
             .filter_map(|(_, l)| l.iter().map(|l| l.area).reduce(Real::max))

@@ -141,37 +141,9 @@ impl Landmarking<'_> {
             ..
         } = *names;
         let side = if k == 0 { self.left } else { -self.left };
-        let surface_arm = || {
-            match self.body {
-            // An arm touching or crossing the trunk, or raised: found on the
-            // mesh's surface.
-            BodyGeometry::Mesh(m) => geodesic::find_arm(
-                m,
-                &geodesic::ArmQuery {
-                    crotch: out
-                        .landmarks
-                        .iter()
-                        .find(|l| l.kind == LandmarkKind::Crotch)?
-                        .position,
-                    head: self.g.nodes[trunk.top_node].centroid,
-                    up,
-                    side,
-                    floor,
-                    extent,
-                },
-            )
-            .map(|a| LateralArm {
-                axis: a.axis,
-                armpit: a.armpit,
-                tip: a.tip,
-                how: "the surface's rings around the hand farthest from the crotch, up to where they spread over the shoulder",
-            }),
-            BodyGeometry::Cloud(_) => None,
-        }
-        };
         let found = self
             .lateral_arm(side, floor + crotch_h)
-            .or_else(surface_arm);
+            .or_else(|| self.surface_arm(side, trunk, out));
         let Some(found) = found else {
             out.warnings.push(format!(
                 "{pname} not found: no branch of at least {:.0} % of the height joins the trunk on the body's {} side above the crotch, hanging down or held out sideways (missing arm, or arm touching the body)",
@@ -330,6 +302,38 @@ impl Landmarking<'_> {
         }
     }
 
+    /// An arm touching or crossing the trunk, or raised, on `side` of a
+    /// mesh: found on its surface ([`geodesic`]), which is walked once for
+    /// both sides.
+    fn surface_arm(&self, side: Vec3, trunk: &Trunk, out: &Found) -> Option<LateralArm> {
+        let BodyGeometry::Mesh(m) = self.body else {
+            return None;
+        };
+        let lv = &self.lv;
+        let surface = self.surface.get_or_init(|| {
+            let crotch = out
+                .landmarks
+                .iter()
+                .find(|l| l.kind == LandmarkKind::Crotch)?
+                .position;
+            let q = geodesic::BodyQuery {
+                crotch,
+                head: self.g.nodes[trunk.top_node].centroid,
+                up: lv.up,
+                floor: lv.floor,
+                extent: lv.extent,
+            };
+            geodesic::Surface::new(m, q)
+        });
+        let a = surface.as_ref()?.find_arm(side)?;
+        Some(LateralArm {
+            axis: a.axis,
+            armpit: a.armpit,
+            tip: a.tip,
+            how: SURFACE_ARM,
+        })
+    }
+
     /// An arm held out sideways (T-pose): horizontal slices cut it lengthwise,
     /// so it never branches off the trunk there. Slices normal to `side` (the
     /// body's left or right), ordered from the outermost inward, show the arm
@@ -437,6 +441,9 @@ impl Landmarking<'_> {
 /// (see [`Landmarking::lateral_arm`]): wider loops cut the shoulder
 /// lengthwise.
 const LATERAL_ARM_WIDE: Real = 1.15;
+
+/// How an arm found on the surface has its armpit (the landmark's `how`).
+const SURFACE_ARM: &str = "the surface's rings around the hand farthest from the crotch, up to where they spread over the shoulder";
 
 /// An arm found in slices across the body, or on the surface.
 struct LateralArm {

@@ -4,8 +4,10 @@
 use crate::anatomy::{BodyGeometry, Landmark};
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::segment::branches::Trunk;
+use crate::segment::geodesic::Surface;
 use crate::segment::graph::Graph;
 use crate::segment::{PartAxis, SegmentError, SegmentOptions};
+use std::sync::OnceLock;
 
 /// Heights along `up` above the floor (the low end of the sliced range),
 /// for `n` slices `step` apart over the body's height `extent`.
@@ -147,6 +149,9 @@ pub(super) struct Landmarking<'a> {
     pub(super) e2: Vec3,
     pub(super) front: Vec3,
     pub(super) left: Vec3,
+    /// A mesh's surface walked from the crotch, once an arm is looked for
+    /// on it.
+    pub(super) surface: OnceLock<Option<Surface<'a>>>,
 }
 
 /// What the stages have found so far, in the order they found it.

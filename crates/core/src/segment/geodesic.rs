@@ -10,15 +10,14 @@ use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+use std::sync::OnceLock;
 
-/// Where the body is, for [`find_arm`]. Lengths in the input's units.
-pub(super) struct ArmQuery {
+/// Where the body is, for [`Surface::new`]. Lengths in the input's units.
+pub(super) struct BodyQuery {
     pub crotch: Point3,
     /// The top of the trunk path (the head's last loop).
     pub head: Point3,
     pub up: Vec3,
-    /// The side searched: the body's left or right, a unit vector.
-    pub side: Vec3,
     /// The floor's height along `up` and the body's height `H`.
     pub floor: Real,
     pub extent: Real,
@@ -48,6 +47,8 @@ const EXTREMITY_GAP: Real = 0.12;
 struct SurfaceGraph {
     start: Vec<usize>,
     next: Vec<(u32, Real)>,
+    /// The median edge length.
+    median_edge: Real,
 }
 
 impl SurfaceGraph {
@@ -72,20 +73,16 @@ impl SurfaceGraph {
         for i in 0..n {
             start[i + 1] += start[i];
         }
-        let next = edges
+        let next: Vec<(u32, Real)> = edges
             .iter()
             .map(|&(a, b)| (b, m.positions[a as usize].distance(m.positions[b as usize])))
             .collect();
-        SurfaceGraph { start, next }
-    }
-
-    fn median_edge(&self) -> Real {
-        let mut l: Vec<Real> = self.next.iter().map(|e| e.1).collect();
-        if l.is_empty() {
-            return 0.0;
+        let median_edge = median(next.iter().map(|e| e.1).collect()).unwrap_or(0.0);
+        SurfaceGraph {
+            start,
+            next,
+            median_edge,
         }
-        let k = l.len() / 2;
-        *l.select_nth_unstable_by(k, Real::total_cmp).1
     }
 
     /// Dijkstra from `source` (infinite where it does not reach).
@@ -132,6 +129,12 @@ impl PartialOrd for Queued {
     }
 }
 
+/// The middle value (the upper one of an even count), `None` when empty.
+fn median(mut v: Vec<Real>) -> Option<Real> {
+    let k = v.len() / 2;
+    (!v.is_empty()).then(|| *v.select_nth_unstable_by(k, Real::total_cmp).1)
+}
+
 /// The vertices' shares of the surface: a third of each incident
 /// triangle's area.
 fn vertex_areas(m: &Mesh) -> Vec<Real> {
@@ -173,7 +176,7 @@ fn arm_from_tip(
     extent: Real,
 ) -> Option<Vec<(Point3, Real)>> {
     let d = g.distances(tip as u32);
-    let band = (BAND * extent).max(g.median_edge());
+    let band = (BAND * extent).max(g.median_edge);
     let count = (0.6 * extent / band).ceil() as usize;
     let mut sums = vec![(Vec3::ZERO, 0.0); count];
     for (v, &dv) in d.iter().enumerate() {
@@ -204,7 +207,7 @@ fn arm_from_tip(
     let mut end = None;
     for k in past_hand..count {
         let Some((_, r)) = rings[k] else { continue };
-        let mut before: Vec<Real> = rings[past_hand / 2..k]
+        let before: Vec<Real> = rings[past_hand / 2..k]
             .iter()
             .flatten()
             .map(|x| x.1)
@@ -212,9 +215,7 @@ fn arm_from_tip(
         if before.len() < 3 {
             continue;
         }
-        let mid = before.len() / 2;
-        let median = *before.select_nth_unstable_by(mid, Real::total_cmp).1;
-        if r > SHOULDER_WIDE * median {
+        if median(before).is_some_and(|m| r > SHOULDER_WIDE * m) {
             end = Some(k);
             break;
         }
@@ -224,44 +225,76 @@ fn arm_from_tip(
     (axis.len() >= 5).then_some(axis)
 }
 
-/// The arm on `q.side` of a mesh, from the hand farthest (along the
-/// surface) from the crotch whose shoulder lies on that side.
-pub(super) fn find_arm(m: &Mesh, q: &ArmQuery) -> Option<SurfaceArm> {
-    let pos = &m.positions;
-    let g = SurfaceGraph::new(m);
-    // The nearest vertex on an edge (a loose vertex reaches nothing).
-    let nearest = |p: Point3| {
-        (0..pos.len())
+/// Ring centroids and radii along an arm, shoulder end first.
+type Rings = Vec<(Point3, Real)>;
+
+/// A mesh's surface walked from the crotch: what both sides' arm searches
+/// share, built once.
+pub(super) struct Surface<'m> {
+    m: &'m Mesh,
+    g: SurfaceGraph,
+    areas: Vec<Real>,
+    q: BodyQuery,
+    /// The hand candidates, farthest from the crotch first (not a foot, not
+    /// the head top on the trunk's line, far enough along the surface to
+    /// be a hand), each with its arm's rings once asked for.
+    hands: Vec<(usize, OnceLock<Option<Rings>>)>,
+}
+
+impl<'m> Surface<'m> {
+    pub(super) fn new(m: &'m Mesh, q: BodyQuery) -> Option<Surface<'m>> {
+        let pos = &m.positions;
+        let g = SurfaceGraph::new(m);
+        // The nearest vertex on an edge (a loose vertex reaches nothing).
+        let crotch = (0..pos.len())
             .filter(|&v| g.neighbours(v).next().is_some())
-            .min_by(|&a, &b| pos[a].distance(p).total_cmp(&pos[b].distance(p)))
-    };
-    let from_crotch = g.distances(nearest(q.crotch)? as u32);
-    let across = |v: Vec3| v - q.up * v.dot(q.up);
-    let hfrac = |p: Point3| (p.dot(q.up) - q.floor) / q.extent;
-    let areas = vertex_areas(m);
-    let candidates = extremities(&g, &from_crotch, pos, EXTREMITY_GAP * q.extent);
-    candidates
-        .into_iter()
-        // Not a foot, not the head top (on the trunk's line), far enough
-        // along the surface to be a hand.
-        .filter(|&v| hfrac(pos[v]) > 0.15)
-        .filter(|&v| across(pos[v] - q.head).norm() > 0.07 * q.extent)
-        .filter(|&v| from_crotch[v] > 0.45 * q.extent)
-        .take(6)
-        .find_map(|v| {
-            let axis = arm_from_tip(&g, m, &areas, v, q.extent)?;
+            .min_by(|&a, &b| {
+                pos[a]
+                    .distance(q.crotch)
+                    .total_cmp(&pos[b].distance(q.crotch))
+            })?;
+        let from_crotch = g.distances(crotch as u32);
+        let across = |v: Vec3| v - q.up * v.dot(q.up);
+        let hfrac = |p: Point3| (p.dot(q.up) - q.floor) / q.extent;
+        let hands = extremities(&g, &from_crotch, pos, EXTREMITY_GAP * q.extent)
+            .into_iter()
+            .filter(|&v| hfrac(pos[v]) > 0.15)
+            .filter(|&v| across(pos[v] - q.head).norm() > 0.07 * q.extent)
+            .filter(|&v| from_crotch[v] > 0.45 * q.extent)
+            .take(6)
+            .map(|v| (v, OnceLock::new()))
+            .collect();
+        Some(Surface {
+            m,
+            areas: vertex_areas(m),
+            g,
+            q,
+            hands,
+        })
+    }
+
+    /// The arm on `side` (the body's left or right, a unit vector): the
+    /// first hand candidate whose arm ends on that side.
+    pub(super) fn find_arm(&self, side: Vec3) -> Option<SurfaceArm> {
+        let (q, pos) = (&self.q, &self.m.positions);
+        let across = |v: Vec3| v - q.up * v.dot(q.up);
+        self.hands.iter().find_map(|(v, rings)| {
+            let axis = rings
+                .get_or_init(|| arm_from_tip(&self.g, self.m, &self.areas, *v, q.extent))
+                .as_ref()?;
             let armpit = axis[0].0;
             // The shoulder end must lie on the side asked for, above the
             // crotch, and the arm must be longer than a hand.
-            let on_side = across(armpit - q.crotch).dot(q.side) > 0.03 * q.extent;
+            let on_side = across(armpit - q.crotch).dot(side) > 0.03 * q.extent;
             let above = armpit.dot(q.up) > q.crotch.dot(q.up) + 0.1 * q.extent;
-            let long = armpit.distance(pos[v]) > 0.2 * q.extent;
+            let long = armpit.distance(pos[*v]) > 0.2 * q.extent;
             (on_side && above && long).then(|| SurfaceArm {
-                axis,
+                axis: axis.clone(),
                 armpit,
-                tip: pos[v],
+                tip: pos[*v],
             })
         })
+    }
 }
 
 #[cfg(test)]

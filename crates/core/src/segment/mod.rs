@@ -520,6 +520,7 @@ pub fn segment(
         e2: slices.e2,
         front,
         left,
+        surface: std::sync::OnceLock::new(),
     };
     let mut out = Found {
         warnings,

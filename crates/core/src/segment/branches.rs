@@ -27,8 +27,8 @@ pub(super) struct Trunk {
 impl Trunk {
     /// The two legs (the segments without parents that start in the lowest
     /// tenth of the `n` slices), where they merge (the crotch) and the
-    /// trunk path from there up to the head top, taking the child of
-    /// largest area at any split.
+    /// trunk path from there up to the head top, taking the child nearest
+    /// above it at any split.
     pub(super) fn find(
         g: &Graph,
         n: usize,
@@ -74,15 +74,20 @@ impl Trunk {
         };
         let leg_nodes = [g.chain_nodes(&chain_a), g.chain_nodes(&chain_b)];
 
-        // Trunk path: up from the crotch, biggest child at any split.
+        // Trunk path: up from the crotch, at any split the child that
+        // continues it most nearly straight up (the neck between raised
+        // arms, whose horizontal loops can be larger than the neck's).
         let mut trunk_segs = vec![crotch_seg];
         let mut cur = crotch_seg;
         loop {
-            let children = &g.segments[cur].children;
-            let Some(&next) = children
+            let seg = &g.segments[cur];
+            let here = g.nodes[seg.nodes[seg.nodes.len() - 1]].c2;
+            let offset = |c: usize| (g.nodes[g.segments[c].nodes[0]].c2 - here).norm();
+            let Some(&next) = seg
+                .children
                 .iter()
                 .filter(|c| !trunk_segs.contains(c))
-                .max_by(|&&a, &&b| g.mean_area(a).total_cmp(&g.mean_area(b)))
+                .min_by(|&&a, &&b| offset(a).total_cmp(&offset(b)))
             else {
                 break;
             };

@@ -63,7 +63,7 @@ impl Landmarking<'_> {
         for (k, found) in arm_found.iter().enumerate() {
             let names = ArmNames::of(k);
             let pit_slice = match found {
-                Some((nodes, m)) => Some(self.place_hanging_arm(nodes, *m, &names, out)),
+                Some((nodes, m)) => Some(self.place_hanging_arm(nodes, *m, k, trunk, out)),
                 None => self.place_lateral_arm(k, &names, trunk, crotch_h, out),
             };
             if let Some(s) = pit_slice {
@@ -120,8 +120,9 @@ impl Landmarking<'_> {
     }
 
     /// No arm hangs from the trunk on side `k`: one held out sideways
-    /// (T-pose) in slices across the body, else (a mesh) one found on the
-    /// surface, its armpit, hand tip, wrist and axis. Returns its armpit's slice, or `None` (a warning) when there
+    /// (T-pose) in slices across the body and (a mesh) one found on the
+    /// surface, joined ([`join_arms`]), its armpit, hand tip, wrist and
+    /// axis. Returns its armpit's slice, or `None` (a warning) when there
     /// is none.
     fn place_lateral_arm(
         &self,
@@ -141,9 +142,13 @@ impl Landmarking<'_> {
             ..
         } = *names;
         let side = if k == 0 { self.left } else { -self.left };
-        let found = self
-            .lateral_arm(side, floor + crotch_h)
-            .or_else(|| self.surface_arm(side, trunk, out));
+        let found = match (
+            self.lateral_arm(side, floor + crotch_h),
+            self.surface_arm(side, trunk, out),
+        ) {
+            (Some(l), Some(s)) => Some(join_arms(l, s, side, extent, LATERAL_TIP_SLACK)),
+            (l, s) => l.or(s),
+        };
         let Some(found) = found else {
             out.warnings.push(format!(
                 "{pname} not found: no branch of at least {:.0} % of the height joins the trunk on the body's {} side above the crotch, hanging down or held out sideways (missing arm, or arm touching the body)",
@@ -180,19 +185,23 @@ impl Landmarking<'_> {
         Some((pit_h / step) as usize)
     }
 
-    /// An arm hanging from the trunk (its branch's `nodes`, hand first,
-    /// merging into segment `m`): its armpit, hand tip, wrist and axis.
-    /// Returns its armpit's slice.
+    /// An arm hanging from the trunk on side `k` (its branch's `nodes`,
+    /// hand first, merging into segment `m`), joined on a mesh with the
+    /// arm found on the surface ([`join_arms`]: a forearm bent forward
+    /// ends the branch at the elbow): its armpit, hand tip, wrist and
+    /// axis. Returns its armpit's slice.
     fn place_hanging_arm(
         &self,
         nodes: &[usize],
         m: usize,
-        names: &ArmNames,
+        k: usize,
+        trunk: &Trunk,
         out: &mut Found,
     ) -> usize {
         let (g, lv, opts) = (self.g, &self.lv, self.opts);
         let (extent, step, e1, e2) = (lv.extent, lv.step, self.e1, self.e2);
-        let ArmNames { arm, tip, pit, .. } = *names;
+        let names = ArmNames::of(k);
+        let ArmNames { arm, tip, pit, .. } = names;
         let last = *nodes.last().unwrap_or(&nodes[0]);
         let merge_first = g.segments[m].nodes[0];
         // The trunk loop just below the merge: the other parent's last node.
@@ -210,13 +219,6 @@ impl Landmarking<'_> {
         let mid2 = (near_t + near_a) * 0.5;
         let pit_h = lv.height_of(g.nodes[merge_first].slice) - 0.5 * step;
         let pit_p = lv.at_height(e1 * mid2.x + e2 * mid2.y, pit_h);
-        out.landmarks.push(Landmark {
-            kind: pit,
-            position: pit_p,
-            height_fraction: pit_h / extent,
-            confidence: 1.0,
-            how: "the arm's branch merges into the trunk",
-        });
         // Arm axis: from the armpit down to the hand tip.
         let mut cs: Vec<(Point3, Real)> = nodes
             .iter()
@@ -227,7 +229,31 @@ impl Landmarking<'_> {
         let tip_h = lv.height_of(g.nodes[tip_node].slice) - 0.5 * step;
         let tip_p = lv.at_height(g.nodes[tip_node].centroid, tip_h);
         cs.push((tip_p, g.nodes[tip_node].radius));
-        let axis = smooth_axis(&cs, opts.axis_smoothing * extent, step);
+        let hanging = LateralArm {
+            axis: cs,
+            armpit: pit_p,
+            tip: tip_p,
+            how: "the arm's branch merges into the trunk",
+        };
+        let side = if k == 0 { self.left } else { -self.left };
+        let found = match self.surface_arm(side, trunk, out) {
+            Some(s) => join_arms(hanging, s, side, extent, HANGING_TIP_SLACK),
+            None => hanging,
+        };
+        let (pit_slice, pit_frac) = if found.armpit == pit_p {
+            (g.nodes[merge_first].slice, pit_h / extent)
+        } else {
+            let h = found.armpit.dot(lv.up) - lv.floor;
+            ((h / step) as usize, h / extent)
+        };
+        out.landmarks.push(Landmark {
+            kind: pit,
+            position: found.armpit,
+            height_fraction: pit_frac,
+            confidence: 1.0,
+            how: found.how,
+        });
+        let axis = smooth_axis(&found.axis, opts.axis_smoothing * extent, step);
         let part = PartAxis {
             name: arm,
             points: axis.0,
@@ -237,14 +263,18 @@ impl Landmarking<'_> {
         };
         out.landmarks.push(Landmark {
             kind: tip,
-            position: tip_p,
-            height_fraction: lv.hfrac(tip_p),
+            position: found.tip,
+            height_fraction: lv.hfrac(found.tip),
             confidence: 0.8,
-            how: "lowest slice of the arm's branch (fingers below may be dropped as small loops)",
+            how: if found.tip == tip_p {
+                "lowest slice of the arm's branch (fingers below may be dropped as small loops)"
+            } else {
+                "the hand's extremity on the surface (the branch ends at a bent elbow)"
+            },
         });
-        self.place_wrist(&part, names, out);
+        self.place_wrist(&part, &names, out);
         out.parts.push(part);
-        g.nodes[merge_first].slice
+        pit_slice
     }
 
     /// The wrist landmark of an arm's axis, or a warning.
@@ -454,6 +484,72 @@ struct LateralArm {
     /// How the armpit was found (its landmark's `how`).
     how: &'static str,
 }
+
+/// An arm found both in slices across the body (`lateral`) and on the
+/// surface. Slices across the body find the shoulder well but cut a
+/// forearm bent forward or up lengthwise, ending the arm at the elbow; the
+/// surface rings follow the bend out to the hand but may stop short of the
+/// shoulder. When the hands disagree, the surface arm stands if it reaches
+/// the shoulder too (its armpit no farther out than the lateral one's);
+/// else the lateral arm runs out to where it leaves the surface arm's axis
+/// and the surface arm on to the hand. The hands agree when the lateral
+/// arm's tip lies within `slack` × `extent` of the surface's hand
+/// extremity.
+fn join_arms(
+    lateral: LateralArm,
+    surface: LateralArm,
+    side: Vec3,
+    extent: Real,
+    slack: Real,
+) -> LateralArm {
+    if lateral.tip.distance(surface.tip) <= slack * extent {
+        return lateral;
+    }
+    if (surface.armpit - lateral.armpit).dot(side) <= REACHES * extent {
+        return surface;
+    }
+    let near_surface = |p: Point3| -> (usize, Real) {
+        surface
+            .axis
+            .iter()
+            .enumerate()
+            .map(|(j, &(q, _))| (j, q.distance(p)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap_or((0, Real::INFINITY))
+    };
+    // The last of the lateral axis's points (shoulder first) on the surface
+    // arm's axis, within their radius or AXES_MEET × H.
+    let Some(last_on) = lateral
+        .axis
+        .iter()
+        .rposition(|&(p, r)| near_surface(p).1 <= r.max(AXES_MEET * extent))
+    else {
+        return lateral;
+    };
+    let (j, _) = near_surface(lateral.axis[last_on].0);
+    let mut axis = lateral.axis[..=last_on].to_vec();
+    axis.extend_from_slice(&surface.axis[j + 1..]);
+    LateralArm {
+        axis,
+        armpit: lateral.armpit,
+        tip: surface.tip,
+        how: lateral.how,
+    }
+}
+
+/// How far (fraction of `H`) an arm's tip found in slices across the body
+/// (at the outermost plane: the fingertips) may lie from the hand's
+/// extremity on the surface and be that hand.
+const LATERAL_TIP_SLACK: Real = 0.05;
+/// The same for a hanging arm's tip (its lowest loop's centroid: up to a
+/// hand's length, about 0.1 `H`, above the fingertips).
+const HANGING_TIP_SLACK: Real = 0.1;
+/// A surface arm whose armpit lies no more than this (fraction of `H`)
+/// farther out than the lateral arm's reaches the shoulder.
+const REACHES: Real = 0.03;
+/// Axis points closer than this (fraction of `H`, or the arm's radius if
+/// larger) lie on the same arm.
+const AXES_MEET: Real = 0.02;
 
 fn nearest_point(poly: &[Point2], q: Point2) -> Point2 {
     poly.iter()
@@ -699,4 +795,80 @@ fn find_wrist(
         how:
             "narrowest perpendicular cut of the forearm between the elbow and the hand's widest cut",
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points along a straight line from `a` to `b`, radius 0.03.
+    fn line(a: Point3, b: Point3, n: usize) -> Vec<(Point3, Real)> {
+        (0..=n)
+            .map(|k| (a + (b - a) * (k as Real / n as Real), 0.03))
+            .collect()
+    }
+
+    fn arm(axis: Vec<(Point3, Real)>) -> LateralArm {
+        LateralArm {
+            armpit: axis[0].0,
+            tip: axis[axis.len() - 1].0,
+            axis,
+            how: "test",
+        }
+    }
+
+    const SIDE: Vec3 = Vec3::new(1.0, 0.0, 0.0);
+    const SHOULDER: Point3 = Vec3::new(0.2, 0.0, 1.4);
+    const ELBOW: Point3 = Vec3::new(0.5, 0.0, 1.4);
+    /// The forearm bent forward from the elbow.
+    const HAND: Point3 = Vec3::new(0.5, -0.3, 1.4);
+
+    #[test]
+    fn hands_that_agree_keep_the_sliced_arm() {
+        let sliced = arm(line(SHOULDER, ELBOW, 30));
+        let surface = arm(line(Vec3::new(0.25, 0.0, 1.4), ELBOW + SIDE * 0.02, 20));
+        let joined = join_arms(sliced, surface, SIDE, 1.7, LATERAL_TIP_SLACK);
+        assert_eq!(joined.tip, ELBOW);
+        assert_eq!(joined.axis.len(), 31);
+    }
+
+    #[test]
+    fn a_surface_arm_reaching_the_shoulder_stands() {
+        let sliced = arm(line(SHOULDER, ELBOW, 30));
+        let mut bent = line(SHOULDER + SIDE * 0.01, ELBOW, 30);
+        bent.extend(line(ELBOW, HAND, 30).into_iter().skip(1));
+        let joined = join_arms(sliced, arm(bent.clone()), SIDE, 1.7, LATERAL_TIP_SLACK);
+        assert_eq!(joined.tip, HAND);
+        assert_eq!(joined.axis, bent);
+    }
+
+    #[test]
+    fn a_short_surface_arm_continues_the_sliced_one_to_the_hand() {
+        // The sliced arm ends at the elbow; the surface rings start mid
+        // upper arm (too far out to be the shoulder) and follow the bend.
+        let sliced = arm(line(SHOULDER, ELBOW, 30));
+        let mid = Vec3::new(0.4, 0.0, 1.4);
+        let mut bent = line(mid, ELBOW, 10);
+        bent.extend(line(ELBOW, HAND, 30).into_iter().skip(1));
+        let joined = join_arms(sliced, arm(bent), SIDE, 1.7, LATERAL_TIP_SLACK);
+        assert_eq!(joined.armpit, SHOULDER);
+        assert_eq!(joined.tip, HAND);
+        // Shoulder to elbow from the slices, then the forearm, with no
+        // point repeated or left out.
+        let pts: Vec<Point3> = joined.axis.iter().map(|p| p.0).collect();
+        assert_eq!(pts[0], SHOULDER);
+        assert_eq!(*pts.last().unwrap(), HAND);
+        for w in pts.windows(2) {
+            let step = w[0].distance(w[1]);
+            assert!(step > 1e-9 && step < 0.011, "step {step}");
+        }
+    }
+
+    #[test]
+    fn axes_that_never_meet_keep_the_sliced_arm() {
+        let sliced = arm(line(SHOULDER, ELBOW, 30));
+        let elsewhere = arm(line(Vec3::new(0.4, 0.3, 1.0), Vec3::new(0.4, 0.6, 1.0), 20));
+        let joined = join_arms(sliced, elsewhere, SIDE, 1.7, LATERAL_TIP_SLACK);
+        assert_eq!(joined.tip, ELBOW);
+    }
 }

@@ -3,8 +3,9 @@
 //! (an arm touching or crossing the torso, or raised above the head, is
 //! still a separate sheet of the mesh), and level sets of the distance from
 //! a hand are rings around the arm up to where they spread over the
-//! shoulder. The segmentation asks for it on a side where the horizontal
-//! slice graph and the slices across the body found no arm.
+//! shoulder. The segmentation asks for it on a side where no arm hangs
+//! from the horizontal slice graph: alone where the slices across the body
+//! find no arm, else to follow a bent forearm out to the hand.
 
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;

@@ -91,7 +91,7 @@ pub use surface::tessellate::{
 pub mod internals {
     /// The `geom` layer.
     pub mod geom {
-        pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes, subdivide};
+        pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes, subdivide, tolerance};
     }
     /// The `spatial` layer.
     pub mod spatial {

@@ -1,6 +1,6 @@
-//! The ground layer: numbers and vectors, small dense linear algebra,
-//! triangle meshes and point clouds, reference shapes, the random
-//! generator and the data-parallel helpers. Depends on nothing else.
+//! The ground layer: numbers and vectors, the tolerances, small dense
+//! linear algebra, triangle meshes and point clouds, reference shapes, the
+//! random generator and the data-parallel helpers. Depends on nothing else.
 
 pub mod linalg;
 pub mod math;
@@ -9,3 +9,4 @@ pub mod parallel;
 pub mod rng;
 pub mod shapes;
 pub mod subdivide;
+pub mod tolerance;

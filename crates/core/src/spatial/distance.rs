@@ -619,6 +619,7 @@ pub fn coherent_map<S: Default, R: Copy + Default + Send>(
 mod tests {
     use super::*;
     use crate::assert_near;
+    use crate::assert_vec_near;
 
     fn brute(mesh: &Mesh, p: Point3) -> Real {
         (0..mesh.triangles.len())
@@ -661,14 +662,14 @@ mod tests {
             a
         );
         let f = closest_point_on_triangle(Vec3::new(0.2, 0.2, 5.0), a, b, c);
-        assert!((f - Vec3::new(0.2, 0.2, 0.0)).norm() < 1e-15);
+        assert_vec_near!(f, Vec3::new(0.2, 0.2, 0.0), 1e-15);
         let e = closest_point_on_triangle(Vec3::new(0.5, -3.0, 1.0), a, b, c);
-        assert!((e - Vec3::new(0.5, 0.0, 0.0)).norm() < 1e-15);
+        assert_vec_near!(e, Vec3::new(0.5, 0.0, 0.0), 1e-15);
         let h = closest_point_on_triangle(Vec3::new(1.0, 1.0, 0.0), a, b, c);
-        assert!((h - Vec3::new(0.5, 0.5, 0.0)).norm() < 1e-15);
+        assert_vec_near!(h, Vec3::new(0.5, 0.5, 0.0), 1e-15);
         // Degenerate triangle: a segment.
         let d = closest_point_on_triangle(Vec3::new(0.5, 1.0, 0.0), a, b, b);
-        assert!((d - Vec3::new(0.5, 0.0, 0.0)).norm() < 1e-15);
+        assert_vec_near!(d, Vec3::new(0.5, 0.0, 0.0), 1e-15);
     }
 
     /// The selective queries agree with brute force over the selected

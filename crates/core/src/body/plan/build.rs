@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::geom::parallel::parallel_map;
+use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::surface::cap::{dome_cap, Cap, DomeAxis};
 use crate::surface::part::Segment;
 
@@ -520,7 +521,7 @@ pub(in crate::body) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) 
     let mut near = 0;
     for q in &cut.fit.plane_points {
         let mut best = dist(&edges[near], q.x, q.y);
-        let window = (best + h_max) * (1.0 + 1e-9);
+        let window = (best + h_max) * (1.0 + ROUNDING_MARGIN);
         let lo = xs.partition_point(|&x| x < q.x - window);
         let hi = xs.partition_point(|&x| x <= q.x + window);
         for &i in &by_x[lo..hi] {

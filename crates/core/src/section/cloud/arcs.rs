@@ -4,6 +4,7 @@
 use super::grid::Grid;
 use super::representatives;
 use crate::geom::math::{Point2, Real, Vec2};
+use crate::geom::tolerance::PIVOT_EPS;
 
 /// Angular bins of [`merge_arcs`]' coverage measure (5° each).
 const COVERAGE_BINS: usize = 72;
@@ -266,7 +267,7 @@ fn circle_centre(points: impl Iterator<Item = Vec2>) -> Option<Vec2> {
         }
     }
     let flat: Vec<Real> = m.iter().flatten().copied().collect();
-    let lu = crate::geom::linalg::Lu::factor(&flat, 3, 1e-12)?;
+    let lu = crate::geom::linalg::Lu::factor(&flat, 3, PIVOT_EPS)?;
     let s = lu.solve(&r);
     let c = Vec2::new(-s[0] / 2.0, -s[1] / 2.0);
     c.is_finite().then_some(c)

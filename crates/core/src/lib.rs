@@ -91,7 +91,9 @@ pub use surface::tessellate::{
 pub mod internals {
     /// The `geom` layer.
     pub mod geom {
-        pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes, subdivide, tolerance};
+        pub use crate::geom::{
+            linalg, math, mesh, parallel, rng, shapes, stats, subdivide, tolerance,
+        };
     }
     /// The `spatial` layer.
     pub mod spatial {

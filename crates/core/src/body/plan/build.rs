@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::geom::parallel::parallel_map;
+use crate::geom::stats::median;
 use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::surface::cap::{dome_cap, Cap, DomeAxis};
 use crate::surface::part::Segment;
@@ -573,8 +574,8 @@ pub(in crate::body) fn drop_outliers(
                 .filter(|&j| j != i)
                 .map(|j| plan.cuts[j].area)
                 .collect();
-            near.sort_by(Real::total_cmp);
-            let med = near[near.len() / 2];
+            // At least two neighbours, as n >= 3.
+            let med = median(&mut near).unwrap_or(Real::NAN);
             let a = plan.cuts[i].area;
             a >= 0.5 * med && a <= 2.0 * med && !wild(&plan.cuts[i], opts)
         })

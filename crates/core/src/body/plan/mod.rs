@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::geom::parallel::parallel_map;
+use crate::geom::stats::median;
 
 mod build;
 pub(super) use build::*;
@@ -187,9 +188,7 @@ pub(super) fn torso_without_arms(
         let Some(d) = far.and_then(|w| (w - a).normalized()) else {
             continue;
         };
-        let mut radii = axis.radii.clone();
-        radii.sort_by(Real::total_cmp);
-        let r = radii.get(radii.len() / 2).copied().unwrap_or(0.0);
+        let r = median(&mut axis.radii.clone()).unwrap_or(0.0);
         // A shoulder's own loops hold the upper arm's first decimetre
         // (measured: clipping there cost the A-pose meshes 0.1-0.4 mm of
         // p95); a loop along the arm reaches much further.

@@ -56,6 +56,7 @@
 use crate::curve::fit::FitOptions;
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::{MeshError, PointCloud};
+use crate::geom::stats::median;
 use crate::section::mesh::{plane_axes, select_loop, Plane, SectionLoop};
 use thiserror::Error;
 
@@ -605,12 +606,8 @@ fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real]) -> Optio
             .filter_map(|&s| nearest_in_sweep(points, order, heights, s * n / samples))
             .collect()
     });
-    if d.is_empty() {
-        return None;
-    }
-    let k = d.len() / 2;
-    let median = *d.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
-    (median > 0.0).then_some(2.0 * median)
+    let m = median(&mut d)?;
+    (m > 0.0).then_some(2.0 * m)
 }
 
 /// The distance from the point of sorted rank `i` to its nearest other
@@ -652,22 +649,16 @@ fn nearest_in_sweep(points: &[Point3], order: &[u32], heights: &[Real], i: usize
 fn representatives(mut keys: Vec<(u32, usize)>, pts: &[Point2], cell: Real) -> Vec<usize> {
     keys.sort_unstable();
     let mut reps = Vec::new();
-    let mut i = 0;
     let mut xs = Vec::new();
     let mut ys = Vec::new();
-    while i < keys.len() {
-        let mut j = i;
-        while j < keys.len() && keys[j].0 == keys[i].0 {
-            j += 1;
-        }
-        let group = &keys[i..j];
+    for group in keys.chunk_by(|a, b| a.0 == b.0) {
         xs.clear();
         ys.clear();
         xs.extend(group.iter().map(|g| pts[g.1].x));
         ys.extend(group.iter().map(|g| pts[g.1].y));
-        let k = xs.len() / 2;
-        let mx = *xs.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
-        let my = *ys.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
+        let (Some(mx), Some(my)) = (median(&mut xs), median(&mut ys)) else {
+            continue;
+        };
         let med = Vec2::new(mx, my);
         let kept: Vec<usize> = group
             .iter()
@@ -684,7 +675,6 @@ fn representatives(mut keys: Vec<(u32, usize)>, pts: &[Point2], cell: Real) -> V
                 reps.push(best);
             }
         }
-        i = j;
     }
     reps
 }

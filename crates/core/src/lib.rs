@@ -112,7 +112,9 @@ pub mod internals {
     }
     /// The `surface` layer.
     pub mod surface {
-        pub use crate::surface::{cap, closed_skin, part, patch, skin, tessellate, transition};
+        pub use crate::surface::{
+            cap, closed_skin, part, patch, pieces, skin, tessellate, transition,
+        };
     }
     /// The `segment` layer.
     pub mod segment {

@@ -67,7 +67,6 @@ use crate::curve::fit::{fit_loop, FitOptions, LoopFit};
 use crate::curve::trig::TrigCurve;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
-use crate::geom::parallel::each_on_cores;
 use crate::section::cloud::scan_fit_options;
 use crate::section::mesh::SectionLoop;
 use crate::segment::{segment, Cutter, PartAxis, SegmentError, SegmentOptions, Segmentation};
@@ -76,7 +75,8 @@ use crate::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
 use crate::spatial::point_grid::PointGrid;
 use crate::surface::cap::CapKind;
 use crate::surface::part::{Part, PartError, PartOptions};
-use crate::surface::tessellate::{tessellate_part, TessellateError, TessellationOptions};
+use crate::surface::pieces::{tessellate_pieces, Piece};
+use crate::surface::tessellate::{TessellateError, TessellationOptions};
 use crate::surface::transition::{fit_magnitudes, Seam, SideCut, Transition, TransitionSpec};
 use std::fmt;
 use thiserror::Error;
@@ -357,35 +357,27 @@ impl Body {
         &self,
         options: &TessellationOptions,
     ) -> Result<Vec<Mesh>, ReconstructError> {
-        enum Piece<'b> {
-            Part(&'b BodyPart),
-            Transition(&'b BodyTransition),
-            Cavity(&'b BodyCavity),
-        }
-        let pieces: Vec<Piece> = (self.parts.iter().map(Piece::Part))
-            .chain(self.transitions.iter().map(Piece::Transition))
-            .chain(self.cavities.iter().map(Piece::Cavity))
-            .collect();
-        each_on_cores(&pieces, |piece| match piece {
-            Piece::Part(p) => {
-                tessellate_part(&p.part, options).map_err(|source| ReconstructError::Tessellate {
-                    part: p.name,
-                    source,
-                })
-            }
-            Piece::Transition(t) => Ok(t.transition.tessellate_with(options)),
-            Piece::Cavity(c) => tessellate_part(&c.part, options)
-                .map(|mut m| {
-                    m.flip_orientation();
-                    m
-                })
-                .map_err(|source| ReconstructError::Tessellate {
-                    part: c.within,
-                    source,
-                }),
+        // Each piece with the part it belongs to, for the error (a
+        // transition's is its first part's; they do not fail).
+        let (owners, pieces): (Vec<PartName>, Vec<Piece>) = self
+            .parts
+            .iter()
+            .map(|p| (p.name, Piece::Part(&p.part)))
+            .chain(
+                self.transitions
+                    .iter()
+                    .map(|t| (t.from, Piece::Transition(&t.transition))),
+            )
+            .chain(
+                self.cavities
+                    .iter()
+                    .map(|c| (c.within, Piece::Cavity(&c.part))),
+            )
+            .unzip();
+        tessellate_pieces(&pieces, options).map_err(|(i, source)| ReconstructError::Tessellate {
+            part: owners[i],
+            source,
         })
-        .into_iter()
-        .collect()
     }
 }
 

@@ -547,7 +547,8 @@ fn untangle(reps: &mut [usize], pts: &[Point2]) {
     }
 }
 
-/// Smallest `|g|²` at which [`onto_plane`] moves a point.
+/// Smallest `|g|²` at which [`onto_plane`] moves a point: `|g| = 0.2`, a
+/// surface normal about 11.5° off the axis.
 const MIN_TANGENT_SLOPE2: Real = 0.04;
 
 /// Moves `p` (height `h = p·a − c` above the plane `{x : x·a = c}`) within
@@ -561,9 +562,11 @@ const MIN_TANGENT_SLOPE2: Real = 0.04;
 /// On an inclined surface, projecting straight along the axis shifts a
 /// point by `h tan θ` sideways (θ the surface's inclination); where the slab
 /// sees the surface only on one side of the plane (occlusion, grazing
-/// views) that shift does not average out and biases the loop. Surfaces
-/// within 60° of facing along the axis (`|g|² < ¼`) and invalid normals are
-/// projected straight.
+/// views) that shift does not average out and biases the loop. For a unit
+/// axis `|g|` is the sine of the angle between the normal and the axis, and
+/// the move is `h / |g|` long: surfaces whose normal lies within about
+/// 11.5° of the axis (`|g|² < 0.04`), where the move would grow without
+/// bound, and invalid normals are projected straight.
 pub fn onto_plane(p: Point3, n: Vec3, a: Vec3, c: Real) -> Point3 {
     let Some(n) = n.normalized() else {
         return p;

@@ -34,8 +34,7 @@
 //!      [`ReconstructOptions::sole_area_fraction`] of the largest (where the
 //!      sole curves up at heel and toes); a shallow dome from the last
 //!      outline down to the floor below its centre closes the sole (a flat
-//!      cap there left the sole 6-10 mm away: coverage 96.2 → 96.9 % on the
-//!      male mesh). The segmentation's
+//!      cap there would stand off the sole). The segmentation's
 //!      foot parts are reported as found and covered by the legs.
 //!
 //!    Sections whose loop cannot be cut or fitted are skipped with a
@@ -178,8 +177,8 @@ pub struct ReconstructOptions {
     pub refine_rounds: usize,
     /// A section is added where the surface strays farther than this
     /// fraction of the height from the input halfway between two sections.
-    /// Default 0.003 (5.2 mm on 1.73 m; measured on the three meshes: 0.0015
-    /// gave the same RMS within 0.05 mm with 6 % more parameters).
+    /// Default 0.003 (5.2 mm on 1.73 m; half of it adds parameters, not
+    /// accuracy).
     pub refine_tolerance: Real,
     /// Sections are never added closer than this fraction of the height.
     /// Default 0.002.
@@ -1001,9 +1000,8 @@ fn arm_transition_specs(
             }
             // Where the arm's axis line meets the plane.
             let lambda = (sh.armpit - sh.start).dot(sh.normal) / along;
-            // The contour's Fourier order: at 8-24 (the arm's first
-            // curve's) the transition's end lay 0.5-1.8 mm off the torso's
-            // surface, at 32 0.08-0.6 mm (reconstruct_real).
+            // The contour's Fourier order: higher than the arm's curves, so
+            // that the transition's end follows the torso's surface.
             let order = 32;
             Some((
                 ai,

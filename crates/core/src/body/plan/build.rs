@@ -231,8 +231,7 @@ fn cap_error(cap: &Cap, input: &InputDistance) -> Real {
 /// is not the hand's or the head's run: a loop where the fingers part,
 /// whose shape and centre jump from its neighbour's, tilts the end
 /// tangent, and the dome, which follows the tangent's harmonics over its
-/// whole height, bulges into a paddle (the legs-spread variant of the
-/// built-in body: hands 28 mm p95). Tries the part without its last 1-3
+/// whole height, bulges into a paddle. Tries the part without its last 1-3
 /// sections (at least four kept) and returns `(k, before, after)` for the
 /// best when it strays under 0.7 times as much, both ways ([`end_error`]).
 /// The end is measured against the input both ways, so a good end is kept
@@ -434,7 +433,7 @@ impl InputDistance<'_> {
 /// slab's arcs joined across a hole) has long stretches away from it.
 /// (A loop clipped at an arm, [`torso_without_arms`], whose straight side
 /// runs far inside the body is dropped by the same rule: kept, its side
-/// showed as a wall in the armpit, T-pose p95 6.5 -> 8.9 mm.)
+/// would show as a wall in the armpit.)
 pub(in crate::body) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
     let mut d = input.distances(&c.fit.curve.sample(64));
     d.sort_by(Real::total_cmp);
@@ -626,8 +625,8 @@ pub(in crate::body) fn refine(
         }
         off <= far
     });
-    // One pass: a second one (for outliers among outliers) dropped real
-    // sections of the base mesh's feet and hands (RMS 3.2 -> 4.6 mm).
+    // One pass: a second one (outliers among outliers) would drop real
+    // sections of feet and hands.
     let plan = drop_outliers(plan, opts, warnings);
     let (mut built, mut cuts) = build_part(
         plan,

@@ -71,13 +71,9 @@ use grid::{Grid, NONE};
 /// The smoothness penalty [`scan_fit_options`] sets by default, `λ = 1e-5`
 /// (the penalty is scale-free: both terms are squared lengths).
 ///
-/// Measured on the MakeHuman male's virtual scan with a quarter of a thigh
-/// or calf loop removed (16 holes), fitted at the automatic order: without
-/// the penalty the curve runs away across the hole (up to metres RMS from
-/// the mesh section's curve); with `λ = 1e-5` it stays within 0.8–3.8 mm,
-/// with `1e-4` within 0.6–3.2 mm. At a known order (the mesh section's)
-/// the penalty changes little on low orders but costs up to 0.4 mm on
-/// high ones (a hip loop at J = 22), hence the smaller value.
+/// Without it a curve fitted across a hole in a scanned loop runs away
+/// from the surface; a larger penalty holds it closer over holes but
+/// rounds off the high orders of loops without one, hence the small value.
 pub const DEFAULT_SCAN_SMOOTHING: Real = 1e-5;
 
 /// Fit options for a scanned loop: `base` with the smoothness penalty

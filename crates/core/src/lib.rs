@@ -91,7 +91,9 @@ pub use surface::tessellate::{
 pub mod internals {
     /// The `geom` layer.
     pub mod geom {
-        pub use crate::geom::{linalg, math, mesh, parallel, rng, shapes, subdivide};
+        pub use crate::geom::{
+            linalg, math, mesh, parallel, rng, shapes, stats, subdivide, tolerance,
+        };
     }
     /// The `spatial` layer.
     pub mod spatial {
@@ -110,7 +112,9 @@ pub mod internals {
     }
     /// The `surface` layer.
     pub mod surface {
-        pub use crate::surface::{cap, closed_skin, part, patch, skin, tessellate, transition};
+        pub use crate::surface::{
+            cap, closed_skin, part, patch, pieces, skin, tessellate, transition,
+        };
     }
     /// The `segment` layer.
     pub mod segment {

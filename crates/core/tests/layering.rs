@@ -14,7 +14,7 @@ const LAYERS: [&str; 9] = [
 ];
 
 /// Root items a layer may name as `crate::X` (macros are exported there).
-const ROOT_ITEMS: [&str; 1] = ["assert_near"];
+const ROOT_ITEMS: [&str; 3] = ["assert_near", "assert_rel_near", "assert_vec_near"];
 
 /// A source file: its layer, its file name inside the layer (`None` for a
 /// layer's `mod.rs` or a one-file layer) and its text.

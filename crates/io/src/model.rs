@@ -43,13 +43,14 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 use std::io::{Read, Write};
 use thiserror::Error;
+use trigbody_core::internals::surface::pieces::{tessellate_pieces, Piece};
 use trigbody_core::internals::surface::transition::{
     Seam, SideCut, Transition, TransitionError, TransitionSpec,
 };
 use trigbody_core::TessellateError;
 use trigbody_core::{
-    tessellate_part, CapKind, Frame, Mesh, Part, PartError, PartOptions, Skinning,
-    TessellationOptions, TrigCurve, Vec3,
+    CapKind, Frame, Mesh, Part, PartError, PartOptions, Skinning, TessellationOptions, TrigCurve,
+    Vec3,
 };
 
 /// The `format` field of every model file.
@@ -127,29 +128,33 @@ impl Model {
     /// Each part, then each transition (named `from-to`, e.g.
     /// `left_leg-torso`), tessellated with `options`, in that order: the
     /// pieces a GLB writes as nodes, or merges into one mesh. A cavity's
-    /// surface is turned to face into its pocket.
+    /// surface is turned to face into its pocket. The pieces are taken by
+    /// the cores as they come free, as
+    /// [`trigbody_core::Body::tessellate_pieces`] takes a body's.
     pub fn tessellate_pieces(
         &self,
         options: &TessellationOptions,
     ) -> Result<Vec<(String, Mesh)>, PieceError> {
-        let mut out = Vec::with_capacity(self.parts.len() + self.transitions.len());
-        for p in &self.parts {
-            let mut mesh = tessellate_part(&p.part, options).map_err(|source| PieceError {
-                part: p.name.clone(),
-                source,
-            })?;
-            if p.cavity_of.is_some() {
-                mesh.flip_orientation();
-            }
-            out.push((p.name.clone(), mesh));
-        }
-        for t in &self.transitions {
-            out.push((
-                format!("{}-{}", t.from, t.to),
-                t.transition.tessellate_with(options),
-            ));
-        }
-        Ok(out)
+        let (names, pieces): (Vec<String>, Vec<Piece>) = self
+            .parts
+            .iter()
+            .map(|p| {
+                let piece = match p.cavity_of {
+                    Some(_) => Piece::Cavity(&p.part),
+                    None => Piece::Part(&p.part),
+                };
+                (p.name.clone(), piece)
+            })
+            .chain(self.transitions.iter().map(|t| {
+                let name = format!("{}-{}", t.from, t.to);
+                (name, Piece::Transition(&t.transition))
+            }))
+            .unzip();
+        let meshes = tessellate_pieces(&pieces, options).map_err(|(i, source)| PieceError {
+            part: names[i].clone(),
+            source,
+        })?;
+        Ok(names.into_iter().zip(meshes).collect())
     }
 }
 

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{fixture, is_closed_and_oriented};
-use trigbody_core::{Mesh, Vec3};
+use trigbody_core::{assert_near, Mesh, Vec3};
 use trigbody_io::{read_geometry, read_mesh, read_point_cloud, Geometry, ReadOptions};
 
 fn mesh(name: &str) -> Mesh {
@@ -14,8 +14,8 @@ fn assert_unit_cube(name: &str, m: &Mesh) {
     assert_eq!(m.positions.len(), 8, "{name}");
     assert_eq!(m.triangles.len(), 12, "{name}");
     assert!(is_closed_and_oriented(m), "{name} is not closed");
-    assert_close!(m.signed_volume(), 1.0, 1e-12);
-    assert_close!(m.surface_area(), 6.0, 1e-12);
+    assert_near!(m.signed_volume(), 1.0, 1e-12);
+    assert_near!(m.surface_area(), 6.0, 1e-12);
 }
 
 #[test]
@@ -73,7 +73,7 @@ fn obj_with_relative_indices_and_crlf() {
         vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
     );
     assert!(is_closed_and_oriented(&m));
-    assert_close!(m.signed_volume(), 1.0 / 6.0, 1e-15);
+    assert_near!(m.signed_volume(), 1.0 / 6.0, 1e-15);
     // Not every corner names a normal: no normals.
     assert!(m.normals.is_none());
 }

@@ -1,14 +1,13 @@
 //! Cavities: pockets of skin inside a part.
 //!
 //! A mesh from a modelling tool often models the inside of the mouth: the
-//! skin turns in at the lips and lines a pocket inside the head (the
-//! shared MakeHuman bodies' reaches 80 mm up from the throat, about 1.5 %
-//! of their surface). Where the lips close over it, a horizontal section
-//! cuts the pocket as a loop of its own, nested inside the head's loop;
-//! only the lips' slit (a couple of millimetres of height) joins the two.
-//! A closed-loop model of the head alone leaves the whole pocket out:
-//! on the shared meshes it held 1.3-1.9 points of coverage and most of
-//! the input → model error.
+//! skin turns in at the lips and lines a pocket inside the head (on the
+//! shared MakeHuman bodies, well up from the throat). Where the lips close
+//! over it, a horizontal section cuts the pocket as a loop of its own,
+//! nested inside the head's loop; only the lips' slit (a couple of
+//! millimetres of height) joins the two. A closed-loop model of the head
+//! alone leaves the whole pocket out, and with it some coverage and most
+//! of the input → model error.
 //!
 //! # The cavity surface
 //!
@@ -52,13 +51,9 @@ use super::*;
 use plan::fractions;
 
 /// Spacing of the levels searched for cavities and of a cavity's sections,
-/// as a fraction of the body's height: 0.006 (10 mm on 1.73 m; the shared
-/// meshes' mouths span 70-80 mm: 6-9 sections). Measured on the three
-/// meshes (`reconstruct_real`): 0.004 gave the same body RMS and
-/// coverage (within 0.01) for 200-250 more parameters; 0.009 and 0.012
-/// the same coverage within 0.02 points, but the lining strayed further
-/// from the mouth (female mesh p95 3.1 → 4.5 and 8.1 mm, 2 sections at
-/// 0.012).
+/// as a fraction of the body's height: 0.006 (10 mm on 1.73 m, 6-9
+/// sections over a mouth). Finer spends parameters for no accuracy;
+/// coarser lets the lining stray from the mouth.
 pub const CAVITY_SPACING: Real = 0.006;
 
 /// A nested loop smaller than this share of its part's loop is a sliver,
@@ -66,8 +61,8 @@ pub const CAVITY_SPACING: Real = 0.006;
 pub const MIN_LOOP_SHARE: Real = 0.002;
 
 /// A run whose largest loop is under this share of its part's loop at that
-/// level is left out (on the shared meshes the nostrils and the eye
-/// sockets, 2.6-3 %, against the mouth's 35-38 %).
+/// level is left out: the nostrils and the eye sockets fall well below it,
+/// a mouth well above.
 pub const MIN_CAVITY_SHARE: Real = 0.1;
 
 /// Fewest sections of a cavity.
@@ -350,7 +345,7 @@ mod tests {
             });
         assert!((lo - (1.55 - r)).abs() < 0.15 * r, "{lo}");
         assert!((hi - (1.55 + r)).abs() < 0.15 * r, "{hi}");
-        // Its volume is the sphere's within 2 % (measured 0.7 %), and the
+        // Its volume is the sphere's within 2 %, and the
         // tessellation turned inside out encloses it negatively.
         let v = crate::measure::volume::volume_area_extent(&Body {
             cavities: Vec::new(),

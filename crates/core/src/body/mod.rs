@@ -34,8 +34,7 @@
 //!      [`ReconstructOptions::sole_area_fraction`] of the largest (where the
 //!      sole curves up at heel and toes); a shallow dome from the last
 //!      outline down to the floor below its centre closes the sole (a flat
-//!      cap there left the sole 6-10 mm away: coverage 96.2 → 96.9 % on the
-//!      male mesh). The segmentation's
+//!      cap there would stand off the sole). The segmentation's
 //!      foot parts are reported as found and covered by the legs.
 //!
 //!    Sections whose loop cannot be cut or fitted are skipped with a
@@ -67,7 +66,6 @@ use crate::curve::fit::{fit_loop, FitOptions, LoopFit};
 use crate::curve::trig::TrigCurve;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
-use crate::geom::parallel::each_on_cores;
 use crate::section::cloud::scan_fit_options;
 use crate::section::mesh::SectionLoop;
 use crate::segment::{segment, Cutter, PartAxis, SegmentError, SegmentOptions, Segmentation};
@@ -76,7 +74,8 @@ use crate::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
 use crate::spatial::point_grid::PointGrid;
 use crate::surface::cap::CapKind;
 use crate::surface::part::{Part, PartError, PartOptions};
-use crate::surface::tessellate::{tessellate_part, TessellateError, TessellationOptions};
+use crate::surface::pieces::{tessellate_pieces, Piece};
+use crate::surface::tessellate::{TessellateError, TessellationOptions};
 use crate::surface::transition::{fit_magnitudes, Seam, SideCut, Transition, TransitionSpec};
 use std::fmt;
 use thiserror::Error;
@@ -178,8 +177,8 @@ pub struct ReconstructOptions {
     pub refine_rounds: usize,
     /// A section is added where the surface strays farther than this
     /// fraction of the height from the input halfway between two sections.
-    /// Default 0.003 (5.2 mm on 1.73 m; measured on the three meshes: 0.0015
-    /// gave the same RMS within 0.05 mm with 6 % more parameters).
+    /// Default 0.003 (5.2 mm on 1.73 m; half of it adds parameters, not
+    /// accuracy).
     pub refine_tolerance: Real,
     /// Sections are never added closer than this fraction of the height.
     /// Default 0.002.
@@ -357,35 +356,27 @@ impl Body {
         &self,
         options: &TessellationOptions,
     ) -> Result<Vec<Mesh>, ReconstructError> {
-        enum Piece<'b> {
-            Part(&'b BodyPart),
-            Transition(&'b BodyTransition),
-            Cavity(&'b BodyCavity),
-        }
-        let pieces: Vec<Piece> = (self.parts.iter().map(Piece::Part))
-            .chain(self.transitions.iter().map(Piece::Transition))
-            .chain(self.cavities.iter().map(Piece::Cavity))
-            .collect();
-        each_on_cores(&pieces, |piece| match piece {
-            Piece::Part(p) => {
-                tessellate_part(&p.part, options).map_err(|source| ReconstructError::Tessellate {
-                    part: p.name,
-                    source,
-                })
-            }
-            Piece::Transition(t) => Ok(t.transition.tessellate_with(options)),
-            Piece::Cavity(c) => tessellate_part(&c.part, options)
-                .map(|mut m| {
-                    m.flip_orientation();
-                    m
-                })
-                .map_err(|source| ReconstructError::Tessellate {
-                    part: c.within,
-                    source,
-                }),
+        // Each piece with the part it belongs to, for the error (a
+        // transition's is its first part's; they do not fail).
+        let (owners, pieces): (Vec<PartName>, Vec<Piece>) = self
+            .parts
+            .iter()
+            .map(|p| (p.name, Piece::Part(&p.part)))
+            .chain(
+                self.transitions
+                    .iter()
+                    .map(|t| (t.from, Piece::Transition(&t.transition))),
+            )
+            .chain(
+                self.cavities
+                    .iter()
+                    .map(|c| (c.within, Piece::Cavity(&c.part))),
+            )
+            .unzip();
+        tessellate_pieces(&pieces, options).map_err(|(i, source)| ReconstructError::Tessellate {
+            part: owners[i],
+            source,
         })
-        .into_iter()
-        .collect()
     }
 }
 
@@ -1009,9 +1000,8 @@ fn arm_transition_specs(
             }
             // Where the arm's axis line meets the plane.
             let lambda = (sh.armpit - sh.start).dot(sh.normal) / along;
-            // The contour's Fourier order: at 8-24 (the arm's first
-            // curve's) the transition's end lay 0.5-1.8 mm off the torso's
-            // surface, at 32 0.08-0.6 mm (reconstruct_real).
+            // The contour's Fourier order: higher than the arm's curves, so
+            // that the transition's end follows the torso's surface.
             let order = 32;
             Some((
                 ai,

@@ -66,8 +66,8 @@ pub struct Report {
     /// ([`crate::spatial::cloud_surface`]: the distance to a least-squares disk of
     /// the local point spacing's radius at the nearest scan point, at most
     /// the distance to that point; the distance to the nearest point alone
-    /// has a floor of the point spacing, 1.9 mm RMS for a perfect model of
-    /// a 200 000-point body scan). The samples are those
+    /// has a floor of the point spacing, even for a perfect model). The
+    /// samples are those
     /// [`ReconstructOptions::report_samples`] spread over all the pieces'
     /// tessellation that lie on the outer skin (as dense, fewer by
     /// [`Report::interior_area_share`]).

@@ -12,6 +12,7 @@
 use crate::curve::lsq::FitErrors;
 use crate::curve::trig::{Frame, TrigCurve};
 use crate::geom::math::{Real, Vec2};
+use crate::geom::tolerance::GEOMETRIC_EPS;
 
 /// Iterations of the alternating fit at most.
 const MAX_ITERATIONS: usize = 200;
@@ -121,7 +122,7 @@ pub fn fit_ellipse(points: &[Vec2]) -> Option<EllipseFit> {
         }
     }
     let n = uw.len() as Real;
-    let floor = (l1.sqrt() * 1e-12).max(Real::MIN_POSITIVE);
+    let floor = (l1.sqrt() * GEOMETRIC_EPS).max(Real::MIN_POSITIVE);
     let (mut sum_rel, mut max_rel, mut sum_sq, mut max_d) = (0.0, 0.0 as Real, 0.0, 0.0 as Real);
     for q in &uw {
         let (c, s) = cos_sin(q, a, b);

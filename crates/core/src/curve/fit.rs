@@ -26,6 +26,7 @@ use crate::curve::order::{
 use crate::curve::trig::{Frame, TrigCurve};
 use crate::geom::linalg::symmetric_eigen3;
 use crate::geom::math::{Point3, Real, Vec2, Vec3, DEFAULT_EA, DEFAULT_EM};
+use crate::geom::tolerance::{DIRECTION_EPS, GEOMETRIC_EPS};
 use std::f64::consts::TAU;
 use thiserror::Error;
 
@@ -210,6 +211,10 @@ impl LoopFit {
     }
 }
 
+/// The points lie on a line when their second principal variance is below
+/// this fraction of the first (the loop has no area to fit).
+const COLLINEAR_RATIO: Real = 1e-20;
+
 /// Fits a loop of 3D points ordered along the loop (see the module docs).
 pub fn fit_loop(points: &[Point3], opts: &FitOptions) -> Result<LoopFit, FitError> {
     check_options(opts)?;
@@ -235,7 +240,7 @@ pub fn fit_loop(points: &[Point3], opts: &FitOptions) -> Result<LoopFit, FitErro
     if !(vals[0] > 0.0) {
         return Err(FitError::Coincident { count: pts.len() });
     }
-    if !(vals[1] > 1e-20 * vals[0]) {
+    if !(vals[1] > COLLINEAR_RATIO * vals[0]) {
         return Err(FitError::Collinear);
     }
     let mut normal = vecs[2];
@@ -281,7 +286,7 @@ pub fn fit_loop(points: &[Point3], opts: &FitOptions) -> Result<LoopFit, FitErro
         normal = -normal;
     }
     let e1_guess = match opts.reference {
-        Some(r) if (r - normal * r.dot(normal)).norm() <= 1e-9 * r.norm() => {
+        Some(r) if (r - normal * r.dot(normal)).norm() <= DIRECTION_EPS * r.norm() => {
             return Err(FitError::BadReference)
         }
         Some(r) => r,
@@ -317,7 +322,7 @@ pub fn fit_loop_2d(points: &[Vec2], opts: &FitOptions) -> Result<LoopFit, FitErr
     if !(l1 > 0.0) {
         return Err(FitError::Coincident { count: pts.len() });
     }
-    if !(l2 > 1e-20 * l1) {
+    if !(l2 > COLLINEAR_RATIO * l1) {
         return Err(FitError::Collinear);
     }
     let ray = match opts.reference {
@@ -516,7 +521,7 @@ pub fn polar_params(q: &[Vec2], ray: Vec2) -> Vec<Real> {
 /// slow, direct evaluation used by the fast path).
 fn direct_errors(points: &[Vec2], params: &[Real], c: &Coefficients) -> FitErrors {
     let scale = points.iter().map(|p| p.norm()).fold(0.0, Real::max);
-    let floor = (scale * 1e-12).max(Real::MIN_POSITIVE);
+    let floor = (scale * GEOMETRIC_EPS).max(Real::MIN_POSITIVE);
     let (mut sum_rel, mut max_rel, mut sum_sq, mut max_d) = (0.0, 0.0 as Real, 0.0, 0.0 as Real);
     for (p, &v) in points.iter().zip(params) {
         let (s1, c1) = v.sin_cos();

@@ -20,6 +20,7 @@
 use crate::curve::trig::standard_to_paper_b;
 use crate::geom::linalg::Cholesky;
 use crate::geom::math::{Real, Vec2};
+use crate::geom::tolerance::GEOMETRIC_EPS;
 use std::f64::consts::TAU;
 
 /// Relative pivot tolerance of the normal equations: an order whose Gram
@@ -172,7 +173,7 @@ impl<'a> LoopFitter<'a> {
             .map(|(x, y)| (x * x + y * y).sqrt())
             .collect();
         let scale = dist.iter().copied().fold(0.0, Real::max);
-        let floor = (scale * 1e-12).max(Real::MIN_POSITIVE);
+        let floor = (scale * GEOMETRIC_EPS).max(Real::MIN_POSITIVE);
         let inv_dbar = dist.iter().map(|d| 1.0 / d.max(floor)).collect();
         LoopFitter {
             params,

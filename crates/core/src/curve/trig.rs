@@ -13,6 +13,7 @@
 
 use crate::curve::series::Series;
 use crate::geom::math::{Point3, Real, Vec2, Vec3};
+use crate::geom::tolerance::DIRECTION_EPS;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
 use thiserror::Error;
@@ -133,7 +134,7 @@ impl TrigCurve {
                 return Err(CurveError::NonFinite { name, index, value });
             }
         }
-        if !self.frame.is_orthonormal(1e-9) {
+        if !self.frame.is_orthonormal(DIRECTION_EPS) {
             return Err(CurveError::BadFrame {
                 e1: self.frame.e1.to_array(),
                 e2: self.frame.e2.to_array(),
@@ -441,6 +442,7 @@ impl SpaceCurve {
 mod tests {
     use super::*;
     use crate::assert_near;
+    use crate::assert_vec_near;
 
     fn tilted_frame() -> Frame {
         Frame::from_normal(
@@ -500,9 +502,9 @@ mod tests {
         let w = c.world_series();
         for i in 0..40 {
             let v = i as Real * 0.17;
-            assert!((w.point(v) - c.point(v)).norm() < 1e-14);
-            assert!((w.derivative(v, 1) - c.derivative(v, 1)).norm() < 1e-13);
-            assert!((w.derivative(v, 2) - c.derivative(v, 2)).norm() < 1e-12);
+            assert_vec_near!(w.point(v), c.point(v), 1e-14);
+            assert_vec_near!(w.derivative(v, 1), c.derivative(v, 1), 1e-13);
+            assert_vec_near!(w.derivative(v, 2), c.derivative(v, 2), 1e-12);
         }
     }
 
@@ -512,7 +514,7 @@ mod tests {
         let s = c.shifted(1.234);
         for i in 0..40 {
             let v = i as Real * 0.17;
-            assert!((s.point(v) - c.point(v + 1.234)).norm() < 1e-14);
+            assert_vec_near!(s.point(v), c.point(v + 1.234), 1e-14);
         }
         assert_near!(s.area(), c.area(), 1e-15);
     }
@@ -524,7 +526,7 @@ mod tests {
         assert_eq!(p.order(), 11);
         for i in 0..40 {
             let v = i as Real * 0.17;
-            assert!((p.point(v) - c.point(v)).norm() < 1e-15);
+            assert_vec_near!(p.point(v), c.point(v), 1e-15);
         }
     }
 
@@ -540,7 +542,7 @@ mod tests {
     fn area_centroid_of_offset_circle() {
         let c = TrigCurve::new(Frame::XY, vec![0.5, 1.0, 0.0], vec![-0.25, 1.0, 0.0]).unwrap();
         let g = c.area_centroid().unwrap();
-        assert!((g - Vec3::new(0.5, -0.25, 0.0)).norm() < 1e-14);
+        assert_vec_near!(g, Vec3::new(0.5, -0.25, 0.0), 1e-14);
     }
 
     #[test]

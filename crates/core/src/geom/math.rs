@@ -1,5 +1,6 @@
-//! The one vocabulary of the crate: scalar and vector types, and the default
-//! tolerances. Nothing else in the core spells out raw `[f64; 3]` except at
+//! The one vocabulary of the crate: scalar and vector types, and the
+//! default fit tolerances (the numerical ones are in `geom::tolerance`).
+//! Nothing else in the core spells out raw `[f64; 3]` except at
 //! file boundaries (`From`/`Into` conversions live here).
 
 use serde::{Deserialize, Serialize};
@@ -7,10 +8,6 @@ use std::ops::{Add, AddAssign, Div, Index, Mul, Neg, Sub, SubAssign};
 
 /// The scalar type of every computation in the core.
 pub type Real = f64;
-
-/// Default tolerance for "these two geometric quantities are equal",
-/// relative to the size of the geometry (used by tests and degeneracy checks).
-pub const GEOMETRIC_EPS: Real = 1e-12;
 
 /// Default average relative error tolerance `E_a` (paper Eq. 12): 1 %.
 pub const DEFAULT_EA: Real = 0.01;
@@ -249,25 +246,10 @@ macro_rules! impl_ops {
 impl_ops!(Vec2, x, y);
 impl_ops!(Vec3, x, y, z);
 
-/// Asserts that two reals agree within an absolute tolerance, printing both.
-#[doc(hidden)]
-#[macro_export]
-macro_rules! assert_near {
-    ($a:expr, $b:expr, $tol:expr) => {{
-        let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
-        assert!(
-            (a - b).abs() <= tol,
-            "assert_near failed: {} = {a:e}, {} = {b:e}, |diff| = {:e} > {tol:e}",
-            stringify!($a),
-            stringify!($b),
-            (a - b).abs()
-        );
-    }};
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::assert_near;
 
     #[test]
     fn cross_product_is_right_handed() {

@@ -1,6 +1,7 @@
-//! The ground layer: numbers and vectors, small dense linear algebra,
-//! triangle meshes and point clouds, reference shapes, the random
-//! generator and the data-parallel helpers. Depends on nothing else.
+//! The ground layer: numbers and vectors, the tolerances, small dense
+//! linear algebra, triangle meshes and point clouds, reference shapes, the
+//! median, the random generator and the data-parallel helpers. Depends on
+//! nothing else.
 
 pub mod linalg;
 pub mod math;
@@ -8,4 +9,6 @@ pub mod mesh;
 pub mod parallel;
 pub mod rng;
 pub mod shapes;
+pub mod stats;
 pub mod subdivide;
+pub mod tolerance;

@@ -75,6 +75,7 @@ use crate::curve::fit::{fit_loop, FitError, FitOptions};
 use crate::curve::trig::TrigCurve;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
+use crate::geom::tolerance::SIZING_ACCURACY;
 use crate::section::girth::{polygon_perimeter, polygon_tape_girth, tape_girth};
 use crate::section::mesh::{MeshSlicer, Plane, SectionError, SectionLoop};
 use crate::segment::{cut_part, segment, PartAxis, SegmentError, SegmentOptions, Segmentation};
@@ -143,7 +144,7 @@ impl Default for MeasureOptions {
             },
             chest_below_armpit: 0.025,
             hip_search_start: 0.02,
-            perimeter_accuracy: 1e-6,
+            perimeter_accuracy: SIZING_ACCURACY,
             search_levels: 32,
             volume_levels: 300,
             band_samples: 512,

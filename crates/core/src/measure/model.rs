@@ -106,6 +106,7 @@ use crate::curve::series::{harmonics, Series};
 use crate::curve::trig::{Frame, SpaceCurve, TrigCurve};
 use crate::geom::math::{Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::Mesh;
+use crate::geom::tolerance::{ROUNDING_MARGIN, SIZING_ACCURACY};
 use crate::measure::mesh::{
     Comparison, Girth, MeasureError, Measurement, MeasurementKind, Measurements,
 };
@@ -151,7 +152,7 @@ impl Default for ModelMeasureOptions {
             search_levels: 24,
             section_samples: 64,
             tape_samples: 256,
-            perimeter_accuracy: 1e-6,
+            perimeter_accuracy: SIZING_ACCURACY,
             axis_window: 0.03,
         }
     }
@@ -277,7 +278,10 @@ fn exact_section(part: &Part, plane: &Plane, s0: Real, n: usize, tol: Real) -> O
                 return None;
             }
             let next = s - height / df;
-            if !next.is_finite() || next < -1e-9 * l || next > l * (1.0 + 1e-9) {
+            if !next.is_finite()
+                || next < -ROUNDING_MARGIN * l
+                || next > l * (1.0 + ROUNDING_MARGIN)
+            {
                 return None;
             }
             s = next.clamp(0.0, l);

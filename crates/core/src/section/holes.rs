@@ -10,8 +10,8 @@
 //! [`RIM_GAP`] (120°) about `q`. Inside a sampled surface the neighbours
 //! surround `q`: at `R` = 4 point spacings about 50 of them, and for
 //! `n` random directions the chance of a gap over a third of the circle is
-//! about `n (2/3)^(n−1)`, 1e-7 (at 3 spacings, 28 neighbours, 5e-4; a
-//! sphere's test found 1 such point in 400). On a hole's rim they lie on
+//! about `n (2/3)^(n−1)`, 1e-7 (at 3 spacings, 28 neighbours, 5e-4). On a
+//! hole's rim they lie on
 //! one side (a gap near 180°), at a hole's corner more. Fewer than [`MIN_NEIGHBOURS`] neighbours (a stray point,
 //! a hole's ragged edge) also count as a rim.
 //!

@@ -49,6 +49,7 @@
 use crate::curve::trig::Frame;
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::{Mesh, MeshError};
+use crate::geom::stats::median;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
@@ -264,8 +265,7 @@ impl SectionLoop {
         let mut edges: Vec<Real> = (0..n)
             .map(|i| self.points[i].distance(self.points[(i + 1) % n]))
             .collect();
-        edges.sort_by(Real::total_cmp);
-        let step = edges[n / 2].max(Real::MIN_POSITIVE);
+        let step = median(&mut edges).unwrap_or(0.0).max(Real::MIN_POSITIVE);
         let mut out: Vec<Point3> = Vec::with_capacity(n + 16);
         // The point where the kept polygon last left the half-space.
         let mut exit: Option<Point3> = None;

@@ -5,6 +5,7 @@
 use crate::anatomy::{BodyGeometry, Landmark, LandmarkKind, PartName};
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
+use crate::geom::stats::median;
 use crate::section::cloud::ScanSectionOptions;
 use crate::section::mesh::{point_in_polygon, MeshSlicer};
 use crate::segment::axis::smooth_axis;
@@ -425,8 +426,7 @@ impl Landmarking<'_> {
         // (radius at most `LATERAL_ARM_WIDE` times the chain's median);
         // the shoulder extension then continues it inward along the arm.
         let mut radii: Vec<Real> = best.iter().map(|&a| g.nodes[a].radius).collect();
-        radii.sort_by(Real::total_cmp);
-        let wide = LATERAL_ARM_WIDE * radii[radii.len() / 2];
+        let wide = LATERAL_ARM_WIDE * median(&mut radii)?;
         let keep = best.len()
             - best
                 .iter()
@@ -669,9 +669,7 @@ fn extend_into_shoulder(
     let (p1, _) = arm.point_and_tangent(0.1)?;
     let dir = (p0 - p1).normalized()?;
     let k_top = (arm.radii.len() / 4).max(1);
-    let mut top: Vec<Real> = arm.radii.get(..k_top)?.to_vec();
-    top.sort_by(|a, b| a.total_cmp(b));
-    let r = top[top.len() / 2];
+    let r = median(&mut arm.radii.get(..k_top)?.to_vec())?;
     if r.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return None;
     }

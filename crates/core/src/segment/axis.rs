@@ -1,6 +1,7 @@
 //! A part's axis from its loops' centres (module docs, step 8).
 
 use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::stats::median;
 
 /// Moving average (half-width `w` in length units, by position along the
 /// polyline) of centre points with radii, then resampled evenly by arc
@@ -25,10 +26,10 @@ pub(super) fn smooth_axis(pts: &[(Point3, Real)], w: Real, step: Real) -> (Vec<P
     let median: Vec<(Point3, Real)> = (0..n)
         .map(|i| {
             let (a, b) = window(i);
+            // `a..=b` holds at least point `i`.
             let med = |f: &dyn Fn(&(Point3, Real)) -> Real| {
                 let mut v: Vec<Real> = pts[a..=b].iter().map(f).collect();
-                let k = v.len() / 2;
-                *v.select_nth_unstable_by(k, |x, y| x.total_cmp(y)).1
+                median(&mut v).unwrap_or(Real::NAN)
             };
             (
                 Vec3::new(med(&|p| p.0.x), med(&|p| p.0.y), med(&|p| p.0.z)),

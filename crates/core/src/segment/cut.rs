@@ -4,6 +4,7 @@
 use crate::anatomy::{BodyGeometry, PartName};
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
+use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::section::cloud::{
     height_key, keyed_heights, section_of_slab, sort_keyed, sorted_heights, CloudSlicer,
     ScanSectionOptions,
@@ -506,7 +507,7 @@ impl<'a> Cutter<'a> {
                 // exact negations), widened by a rounding margin; the exact
                 // test above decides.
                 let c_up = offset * plane.normal.dot(up).signum();
-                let pad = 1e-9 * (c_up.abs() + t);
+                let pad = ROUNDING_MARGIN * (c_up.abs() + t);
                 let lo = heights.partition_point(|&h| h < c_up - t - pad);
                 let hi = heights.partition_point(|&h| h <= c_up + t + pad);
                 for &i in &order[lo..hi] {
@@ -649,7 +650,7 @@ impl BallGrid {
         let r = Vec3::new(radius, radius, radius);
         let (a, b) = (self.coords(centre - r), self.coords(centre + r));
         let g = self.cell;
-        let margin = 1e-9 * (radius + g);
+        let margin = ROUNDING_MARGIN * (radius + g);
         let reach2 = (radius + margin) * (radius + margin);
         for z in a[2]..=b[2] {
             for y in a[1]..=b[1] {

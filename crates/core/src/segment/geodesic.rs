@@ -9,6 +9,7 @@
 
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
+use crate::geom::stats::median;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::sync::OnceLock;
@@ -78,7 +79,7 @@ impl SurfaceGraph {
             .iter()
             .map(|&(a, b)| (b, m.positions[a as usize].distance(m.positions[b as usize])))
             .collect();
-        let median_edge = median(next.iter().map(|e| e.1).collect()).unwrap_or(0.0);
+        let median_edge = median(&mut next.iter().map(|e| e.1).collect::<Vec<_>>()).unwrap_or(0.0);
         SurfaceGraph {
             start,
             next,
@@ -128,12 +129,6 @@ impl PartialOrd for Queued {
     fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
         Some(self.cmp(o))
     }
-}
-
-/// The middle value (the upper one of an even count), `None` when empty.
-fn median(mut v: Vec<Real>) -> Option<Real> {
-    let k = v.len() / 2;
-    (!v.is_empty()).then(|| *v.select_nth_unstable_by(k, Real::total_cmp).1)
 }
 
 /// The vertices' shares of the surface: a third of each incident
@@ -208,7 +203,7 @@ fn arm_from_tip(
     let mut end = None;
     for k in past_hand..count {
         let Some((_, r)) = rings[k] else { continue };
-        let before: Vec<Real> = rings[past_hand / 2..k]
+        let mut before: Vec<Real> = rings[past_hand / 2..k]
             .iter()
             .flatten()
             .map(|x| x.1)
@@ -216,7 +211,7 @@ fn arm_from_tip(
         if before.len() < 3 {
             continue;
         }
-        if median(before).is_some_and(|m| r > SHOULDER_WIDE * m) {
+        if median(&mut before).is_some_and(|m| r > SHOULDER_WIDE * m) {
             end = Some(k);
             break;
         }

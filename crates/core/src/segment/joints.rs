@@ -18,6 +18,7 @@
 
 use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};
 use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::stats::median;
 use crate::section::cloud::{CloudSlicer, ScanSectionOptions};
 use crate::section::mesh::{MeshSlicer, SectionLoop, SectionOptions};
 use crate::segment::{PartAxis, Segmentation};
@@ -262,8 +263,7 @@ fn ankle_joint(
     if above.len() < 3 {
         return None;
     }
-    above.sort_by(Real::total_cmp);
-    let shank_length = above[above.len() / 2];
+    let shank_length = median(&mut above)?;
     let mut level = top - 0.005 * h;
     while level > floor + 0.01 * h {
         if length_at(level)? >= FOOT_BEGINS * shank_length {

@@ -34,6 +34,7 @@ use std::borrow::Cow;
 use crate::geom::linalg::symmetric_eigen3;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{central_extent, PointCloud};
+use crate::geom::stats::median;
 
 /// Options of [`clean_cloud`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -349,11 +350,7 @@ fn plane_fit(pts: &[Point3]) -> Option<(Point3, Vec3)> {
 /// scaled to a normal distribution's deviation (× 1.4826).
 fn robust_deviation(pts: &[Point3], n: Vec3, c: Real) -> Real {
     let mut d: Vec<Real> = pts.iter().map(|p| (p.dot(n) - c).abs()).collect();
-    if d.is_empty() {
-        return 0.0;
-    }
-    let k = d.len() / 2;
-    1.4826 * *d.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1
+    median(&mut d).map_or(0.0, |m| 1.4826 * m)
 }
 
 /// The area of the cells of side `cell` that `pts` occupy in the plane

@@ -18,10 +18,8 @@
 //!   s` of `q` (`s` the cloud's mean spacing, given by the caller), `q`
 //!   included; when fewer than [`MIN_FIT_POINTS`], those within `2R`. (A
 //!   part thinner than `R`, an ear's rim, puts both its sides in the
-//!   neighbourhood; leaving out the neighbours whose normal faces away
-//!   from `q`'s cost a cache miss per neighbour for 0.458 against 0.463 mm
-//!   on the ground truth of `crates/io/tests/cloud_surface_real.rs`, and was
-//!   dropped.)
+//!   neighbourhood; filtering them by normal costs a cache miss per
+//!   neighbour for no real gain.)
 //! * **Plane**: through the neighbours' centroid `c` (`k` points), with
 //!   normal `n` = `q`'s own normal when the cloud has one (finite, non-zero),
 //!   else the eigenvector of the smallest eigenvalue `λ₃` of their
@@ -67,10 +65,8 @@
 //!   an extended plane;
 //! * at a **sharp feature** (a toe's tip, the nose) the neighbours wrap
 //!   round it and their plane through the centroid lies off both sides:
-//!   there the bound `d ≤ d₀` holds the nearest-point distance (on the
-//!   built-in body's virtual scan without normals, 1 100 of 60 000 samples
-//!   of the body's own surface measured more than 0.5 mm above `d₀`
-//!   without the bound, up to 9 mm).
+//!   there the bound `d ≤ d₀` holds the nearest-point distance (without it
+//!   such samples would come out above it).
 //!
 //! Fallbacks, never a panic: no finite point or a query that is not finite
 //! gives `∞` (as [`PointGrid::nearest`]); a point with fewer than
@@ -82,10 +78,8 @@
 //! (the grid's Morton-ordered, seeded search) and builds one surfel per
 //! distinct nearest point, in the grid's cell order over the cores, the
 //! neighbours of a cell's points picked out of one gathering of that
-//! cell's surroundings (`PointGrid::for_each_cell_run`). On the built-in
-//! body's 200 000-point virtual scan that is about 53 000 surfels for the
-//! report's 60 000 samples (see `docs/reconstruct.md`, "Time", for what
-//! they cost).
+//! cell's surroundings (`PointGrid::for_each_cell_run`): nearly one surfel
+//! per sample on a dense scan.
 
 use crate::geom::linalg::symmetric_eigen3;
 use crate::geom::math::{Point3, Real, Vec3};
@@ -95,13 +89,8 @@ use crate::spatial::point_grid::PointGrid;
 /// The neighbours' radius `R` in point spacings: about `π·2.5²` ≈ 20
 /// neighbours on average. Larger radii average the noise over more points
 /// (`σ/√k`) but put the centroid deeper inside a curved surface
-/// (`R²/(4ρ)`). Measured on the built-in body against its own virtual
-/// scan (`crates/io/tests/cloud_surface_real.rs` with this constant changed; RMS
-/// over the samples within 5 mm of a scan point, scan normals /
-/// estimated normals): 1.5 → 0.543 / 0.874 mm, 2 → 0.487 / 0.674, 2.5 →
-/// 0.463 / 0.510; an earlier version (without the bound `d ≤ d₀`, with a
-/// neighbour filter since dropped) gave 2.5 → 0.48 / 0.55, 3 → 0.53 /
-/// 0.56, 4 → 0.70 / 0.74 (the nearest point: 1.894 mm).
+/// (`R²/(4ρ)`); 2.5 is the best against a known surface
+/// (`crates/io/tests/cloud_surface_real.rs`), with or without scan normals.
 pub const FIT_RADIUS_SPACINGS: Real = 2.5;
 
 /// Fewer neighbours (the point included) than this within `R` and `2R`:

@@ -1,6 +1,7 @@
 //! A uniform grid over a point cloud for nearest-point queries.
 
 use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::spatial::distance::coherent_map;
 
 /// A uniform grid over a point cloud for nearest-point distances: cells of
@@ -296,7 +297,7 @@ impl<'a> PointGrid<'a> {
                     + Vec3::new(cell[0] as Real, cell[1] as Real, cell[2] as Real) * self.cell;
                 let c_hi = c_lo + Vec3::new(self.cell, self.cell, self.cell);
                 let apart = (c_lo - hi).max(lo - c_hi).max(Vec3::ZERO);
-                if apart.norm_squared() > r * r * (1.0 + 1e-9) {
+                if apart.norm_squared() > r * r * (1.0 + ROUNDING_MARGIN) {
                     return;
                 }
                 for q in &self.sorted[span] {

@@ -314,6 +314,7 @@ pub fn dome_cap(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::assert_vec_near;
     use crate::curve::trig::Frame;
 
     fn unit_axis_tangent(order: usize) -> SpaceCurve {
@@ -326,12 +327,12 @@ mod tests {
         let cap = flat_cap(&c).unwrap();
         for i in 0..20 {
             let v = i as Real * 0.31;
-            assert!((cap.patch.point(0.0, v) - c.point(v)).norm() < 1e-15);
+            assert_vec_near!(cap.patch.point(0.0, v), c.point(v), 1e-15);
             assert!(cap.patch.point(1.0, v).norm() < 1e-15);
             let p = cap.patch.point(0.4, v);
             crate::assert_near!(p.norm(), 0.3, 1e-14);
             // Outward for an end cap of a part running along +z.
-            assert!((cap.patch.normal(0.4, v).unwrap() - Vec3::Z).norm() < 1e-12);
+            assert_vec_near!(cap.patch.normal(0.4, v).unwrap(), Vec3::Z, 1e-12);
         }
     }
 
@@ -340,12 +341,12 @@ mod tests {
         let r = 0.2;
         let c = TrigCurve::circle(Frame::XY, r, 2);
         let cap = dome_cap(&c, &unit_axis_tangent(2), 1.0, 1.0, DomeAxis::Tangent).unwrap();
-        assert!((cap.apex - Vec3::new(0.0, 0.0, r)).norm() < 1e-14);
+        assert_vec_near!(cap.apex, Vec3::new(0.0, 0.0, r), 1e-14);
         for i in 0..24 {
             let v = i as Real * 0.26;
             // Tangent continuity with the cylinder at u = 0.
             let du = cap.patch.du(0.0, v).normalized().unwrap();
-            assert!((du - Vec3::Z).norm() < 1e-14);
+            assert_vec_near!(du, Vec3::Z, 1e-14);
             // The profile stays within 3 % of the sphere.
             for k in 0..=10 {
                 let p = cap.patch.point(k as Real / 10.0, v);
@@ -353,7 +354,7 @@ mod tests {
             }
             // Normals approach the axis at the apex (one tangent plane).
             let n = cap.patch.normal(1.0 - 1e-6, v).unwrap();
-            assert!((n - Vec3::Z).norm() < 1e-4);
+            assert_vec_near!(n, Vec3::Z, 1e-4);
         }
         assert_eq!(
             dome_cap(&c, &unit_axis_tangent(2), -1.0, 1.0, DomeAxis::Tangent),
@@ -368,7 +369,7 @@ mod tests {
         let t = unit_axis_tangent(2);
         let plain = dome_cap(&c, &t, 2.0, 1.0, DomeAxis::Tangent).unwrap();
         let full = dome_cap(&c, &t, 2.0, 2.0, DomeAxis::Tangent).unwrap();
-        assert!((plain.apex - full.apex).norm() < 1e-15);
+        assert_vec_near!(plain.apex, full.apex, 1e-15);
         for k in 0..=20 {
             let u = k as Real / 20.0;
             // The same heights (the axial part does not depend on φ).
@@ -427,22 +428,22 @@ mod tests {
         // A tangent tilted 45 degrees in x.
         let t = constant_curve(Vec3::new(1.0, 0.0, 1.0), 2);
         let along = dome_cap(&c, &t, 1.5, 1.0, DomeAxis::Normal).unwrap();
-        assert!((along.apex - Vec3::new(0.0, 0.0, 0.15)).norm() < 1e-14);
+        assert_vec_near!(along.apex, Vec3::new(0.0, 0.0, 0.15), 1e-14);
         let tilted = dome_cap(&c, &t, 1.5, 1.0, DomeAxis::Tangent).unwrap();
         let s = 0.15 / 2f64.sqrt();
-        assert!((tilted.apex - Vec3::new(s, 0.0, s)).norm() < 1e-14);
+        assert_vec_near!(tilted.apex, Vec3::new(s, 0.0, s), 1e-14);
         // Both leave the curve along the part's tangent (C1 at u = 0).
         for cap in [&along, &tilted] {
             for i in 0..8 {
                 let v = i as Real * 0.8;
-                assert!((cap.patch.point(0.0, v) - c.point(v)).norm() < 1e-15);
+                assert_vec_near!(cap.patch.point(0.0, v), c.point(v), 1e-15);
                 let du = cap.patch.du(0.0, v).normalized().unwrap();
-                assert!((du - Vec3::new(1.0, 0.0, 1.0).normalized().unwrap()).norm() < 1e-14);
+                assert_vec_near!(du, Vec3::new(1.0, 0.0, 1.0).normalized().unwrap(), 1e-14);
             }
         }
         // A normal against the tangent is turned to the tangent's side.
         let down = constant_curve(Vec3::new(0.0, 0.0, -1.0), 2);
         let below = dome_cap(&c, &down, 1.0, 1.0, DomeAxis::Normal).unwrap();
-        assert!((below.apex - Vec3::new(0.0, 0.0, -0.1)).norm() < 1e-14);
+        assert_vec_near!(below.apex, Vec3::new(0.0, 0.0, -0.1), 1e-14);
     }
 }

@@ -56,6 +56,7 @@
 
 use crate::curve::trig::{CurveError, SpaceCurve, TrigCurve};
 use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::tolerance::GEOMETRIC_EPS;
 use crate::surface::cap::{dome_cap, flat_cap, Cap, CapError, CapKind};
 use crate::surface::patch::{combine, flatten, unflatten, EndConditions, Patch, PatchError};
 use serde::{Deserialize, Serialize};
@@ -396,7 +397,7 @@ impl Part {
         let mut knots = vec![0.0];
         for k in 0..n - 1 {
             let d = centres[k + 1].distance(centres[k]);
-            if d.is_nan() || d <= 1e-12 * scale.max(Real::MIN_POSITIVE) {
+            if d.is_nan() || d <= GEOMETRIC_EPS * scale.max(Real::MIN_POSITIVE) {
                 return Err(PartError::CoincidentSections { index: k });
             }
             knots.push(knots[k] + d);

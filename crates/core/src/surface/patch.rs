@@ -27,11 +27,8 @@ use crate::curve::series::Series;
 use crate::curve::trig::SpaceCurve;
 use crate::geom::linalg::Lu;
 use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::tolerance::PIVOT_EPS;
 use thiserror::Error;
-
-/// Relative pivot tolerance for the patch system: below it the curves'
-/// parameters (or the conditions) do not determine the patch.
-const PIVOT_TOL: Real = 1e-12;
 
 /// What is wrong with the input of a patch.
 #[derive(Debug, Error, PartialEq)]
@@ -242,7 +239,9 @@ impl Patch {
                 rhs.push(flatten(c, order));
             }
         }
-        let lu = Lu::factor(&r, n, PIVOT_TOL).ok_or(PatchError::Singular { size: n })?;
+        // Below the pivot tolerance the curves' parameters (or the conditions)
+        // do not determine the patch.
+        let lu = Lu::factor(&r, n, PIVOT_EPS).ok_or(PatchError::Singular { size: n })?;
         // F = R⁻¹ C: one inverse, then each f_m is a combination of the rows.
         let inv = lu.inverse();
         if inv.iter().any(|x| !x.is_finite()) {
@@ -411,6 +410,7 @@ impl Patch {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::assert_vec_near;
     use crate::curve::trig::{Frame, TrigCurve};
     use crate::geom::math::Vec3;
 
@@ -446,7 +446,7 @@ mod tests {
             let u = k as Real / 4.0;
             for i in 0..37 {
                 let v = i as Real * 0.17;
-                assert!((p.point(u, v) - c.point(v)).norm() < 1e-9);
+                assert_vec_near!(p.point(u, v), c.point(v), 1e-9);
             }
         }
     }
@@ -468,7 +468,7 @@ mod tests {
         for i in 0..23 {
             let v = i as Real * 0.29;
             for (k, c) in curves.iter().enumerate() {
-                assert!((p.point(u[k], v) - c.point(v)).norm() < 1e-9);
+                assert_vec_near!(p.point(u[k], v), c.point(v), 1e-9);
             }
             let e = &ends;
             assert!(
@@ -500,14 +500,14 @@ mod tests {
         for &(u, v) in &[(0.2, 0.3), (0.7, 4.0), (0.5, 2.2)] {
             let fu = (p.point(u + h, v) - p.point(u - h, v)) / (2.0 * h);
             let fv = (p.point(u, v + h) - p.point(u, v - h)) / (2.0 * h);
-            assert!((fu - p.du(u, v)).norm() < 1e-7);
-            assert!((fv - p.dv(u, v)).norm() < 1e-7);
+            assert_vec_near!(fu, p.du(u, v), 1e-7);
+            assert_vec_near!(fv, p.dv(u, v), 1e-7);
             let fuu = (p.du(u + h, v) - p.du(u - h, v)) / (2.0 * h);
             let fuv = (p.du(u, v + h) - p.du(u, v - h)) / (2.0 * h);
-            assert!((fuu - p.derivative(u, v, 2, 0)).norm() < 1e-6);
-            assert!((fuv - p.derivative(u, v, 1, 1)).norm() < 1e-6);
+            assert_vec_near!(fuu, p.derivative(u, v, 2, 0), 1e-6);
+            assert_vec_near!(fuv, p.derivative(u, v, 1, 1), 1e-6);
             let c = p.u_derivative_curve(u, 1);
-            assert!((c.point(v) - p.du(u, v)).norm() < 1e-12);
+            assert_vec_near!(c.point(v), p.du(u, v), 1e-12);
         }
     }
 
@@ -543,10 +543,10 @@ mod tests {
         let p = Patch::hermite(&p0, &t0, &p1, &t1).unwrap();
         for i in 0..20 {
             let v = i as Real * 0.3;
-            assert!((p.point(0.0, v) - p0.point(v)).norm() < 1e-12);
-            assert!((p.point(1.0, v) - p1.point(v)).norm() < 1e-12);
-            assert!((p.du(0.0, v) - t0.point(v)).norm() < 1e-12);
-            assert!((p.du(1.0, v) - t1.point(v)).norm() < 1e-12);
+            assert_vec_near!(p.point(0.0, v), p0.point(v), 1e-12);
+            assert_vec_near!(p.point(1.0, v), p1.point(v), 1e-12);
+            assert_vec_near!(p.du(0.0, v), t0.point(v), 1e-12);
+            assert_vec_near!(p.du(1.0, v), t1.point(v), 1e-12);
         }
     }
 

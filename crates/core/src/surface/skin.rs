@@ -72,6 +72,7 @@
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{concatenate, Aabb, Mesh};
 use crate::geom::parallel::each_on_cores;
+use crate::geom::tolerance::{GEOMETRIC_EPS, ROUNDING_MARGIN};
 use crate::spatial::distance::MeshDistance;
 use std::ops::Range;
 
@@ -434,7 +435,7 @@ fn exit(b: &Aabb, o: Point3, d: Vec3) -> Real {
     let s = along(b.min.x, b.max.x, o.x, d.x)
         .min(along(b.min.y, b.max.y, o.y, d.y))
         .min(along(b.min.z, b.max.z, o.z, d.z));
-    s.max(0.0) * (1.0 + 1e-9) + 1e-12 * b.diagonal()
+    s.max(0.0) * (1.0 + ROUNDING_MARGIN) + GEOMETRIC_EPS * b.diagonal()
 }
 
 /// A grid over some points, cells of side `reach`, marking the cells that

@@ -16,6 +16,7 @@
 use crate::curve::series::harmonics;
 use crate::geom::math::{Real, Vec3};
 use crate::geom::mesh::Mesh;
+use crate::geom::tolerance::SIZING_ACCURACY;
 use crate::surface::cap::Cap;
 use crate::surface::part::{Part, Skinning};
 use crate::surface::patch::Patch;
@@ -434,13 +435,12 @@ fn resolution(
         if !(e.is_finite() && e > 0.0) {
             return Err(TessellateError::BadEdgeLength(e));
         }
-        // The perimeter only picks a sample count: 1e-6 relative accuracy
-        // (the default 1e-10 doubles the quadrature's samples two or three
-        // more times).
+        // The perimeter only picks a sample count: the curve's default
+        // accuracy would double the quadrature's samples a few more times.
         let perimeter = part
             .curves()
             .iter()
-            .map(|c| c.perimeter_with_accuracy(1e-6))
+            .map(|c| c.perimeter_with_accuracy(SIZING_ACCURACY))
             .fold(0.0, Real::max);
         around = steps(perimeter, e).max(8);
         let eighths = TrigTable::new(8, order);
@@ -518,6 +518,7 @@ fn powers(u: Real, pw: &mut [Real], dpw: &mut [Real]) {
 mod tests {
     use super::*;
     use crate::assert_near;
+    use crate::assert_vec_near;
     use crate::curve::trig::{Frame, TrigCurve};
     use crate::surface::cap::CapKind;
     use crate::surface::part::PartOptions;
@@ -758,10 +759,10 @@ mod tests {
         .unwrap();
         assert_eq!(a.triangles, b.triangles);
         for (p, q) in a.positions.iter().zip(&b.positions) {
-            assert!((rot(*p) + t - *q).norm() < 1e-9);
+            assert_vec_near!(rot(*p) + t, *q, 1e-9);
         }
         for (n, m) in a.normals.unwrap().iter().zip(b.normals.as_ref().unwrap()) {
-            assert!((rot(*n) - *m).norm() < 1e-9);
+            assert_vec_near!(rot(*n), *m, 1e-9);
         }
     }
 }

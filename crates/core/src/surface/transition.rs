@@ -47,6 +47,7 @@ use crate::curve::series::Series;
 use crate::curve::trig::SpaceCurve;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
+use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::surface::part::{best_phase_shift, Part};
 use crate::surface::patch::{Patch, PatchError};
 use serde::{Deserialize, Serialize};
@@ -798,7 +799,7 @@ impl Transition {
 /// is measured first (one batch), then the candidates are visited in
 /// order of that row's sum, each adding its other rows (middle out) until
 /// the partial sum exceeds the best full sum so far by more than a
-/// rounding margin (`1e-9` relative; the rounding of 256 non-negative
+/// rounding margin ([`ROUNDING_MARGIN`]; the rounding of 256 non-negative
 /// terms is below `256 ε`), so it cannot win. A candidate measured in
 /// full is scored by its sum in row order, as without pruning.
 pub fn fit_magnitudes(
@@ -848,7 +849,7 @@ pub fn fit_magnitudes(
         let mut partial = partial0;
         let mut pruned = false;
         for &j in &VISIT[1..] {
-            if best.is_some_and(|(b, _)| partial > b * (1.0 + 1e-9)) {
+            if best.is_some_and(|(b, _)| partial > b * (1.0 + ROUNDING_MARGIN)) {
                 pruned = true;
                 break;
             }
@@ -859,7 +860,7 @@ pub fn fit_magnitudes(
             partial += row_sum(&e);
             rows[k][j - 1] = Some(e);
         }
-        if pruned || best.is_some_and(|(b, _)| partial > b * (1.0 + 1e-9)) {
+        if pruned || best.is_some_and(|(b, _)| partial > b * (1.0 + ROUNDING_MARGIN)) {
             continue;
         }
         // All rows measured: the sum in row order.
@@ -879,6 +880,7 @@ pub fn fit_magnitudes(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::assert_vec_near;
     use crate::curve::trig::{Frame, TrigCurve};
     use crate::surface::part::PartOptions;
 
@@ -1200,7 +1202,7 @@ mod tests {
         let g = gap_scaled(&t, &p0, &p1, 4);
         for i in 0..16 {
             let v = TAU * i as Real / 16.0;
-            assert!((g.point(v) - Vec3::new(0.0, 0.0, 1.0)).norm() < 1e-12);
+            assert_vec_near!(g.point(v), Vec3::new(0.0, 0.0, 1.0), 1e-12);
         }
         // A circle of radius 2 at the far end: the gap grows where the
         // curves part (√(4 + 1) at v where both radii point the same way).

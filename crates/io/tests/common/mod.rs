@@ -43,18 +43,3 @@ pub fn is_closed_and_oriented(mesh: &Mesh) -> bool {
         .iter()
         .all(|(&(a, b), &n)| n == 1 && directed.get(&(b, a)) == Some(&1))
 }
-
-/// Asserts two reals agree within `tol`, printing both.
-#[macro_export]
-macro_rules! assert_close {
-    ($a:expr, $b:expr, $tol:expr) => {{
-        let (a, b, tol): (f64, f64, f64) = ($a, $b, $tol);
-        assert!(
-            (a - b).abs() <= tol,
-            "{} = {a} vs {} = {b}: |diff| {} > {tol}",
-            stringify!($a),
-            stringify!($b),
-            (a - b).abs()
-        );
-    }};
-}

@@ -4,6 +4,8 @@
 
 use super::*;
 use crate::geom::parallel::parallel_map;
+use crate::geom::stats::median;
+use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::surface::cap::{dome_cap, Cap, DomeAxis};
 use crate::surface::part::Segment;
 
@@ -229,8 +231,7 @@ fn cap_error(cap: &Cap, input: &InputDistance) -> Real {
 /// is not the hand's or the head's run: a loop where the fingers part,
 /// whose shape and centre jump from its neighbour's, tilts the end
 /// tangent, and the dome, which follows the tangent's harmonics over its
-/// whole height, bulges into a paddle (the legs-spread variant of the
-/// built-in body: hands 28 mm p95). Tries the part without its last 1-3
+/// whole height, bulges into a paddle. Tries the part without its last 1-3
 /// sections (at least four kept) and returns `(k, before, after)` for the
 /// best when it strays under 0.7 times as much, both ways ([`end_error`]).
 /// The end is measured against the input both ways, so a good end is kept
@@ -432,7 +433,7 @@ impl InputDistance<'_> {
 /// slab's arcs joined across a hole) has long stretches away from it.
 /// (A loop clipped at an arm, [`torso_without_arms`], whose straight side
 /// runs far inside the body is dropped by the same rule: kept, its side
-/// showed as a wall in the armpit, T-pose p95 6.5 -> 8.9 mm.)
+/// would show as a wall in the armpit.)
 pub(in crate::body) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
     let mut d = input.distances(&c.fit.curve.sample(64));
     d.sort_by(Real::total_cmp);
@@ -520,7 +521,7 @@ pub(in crate::body) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) 
     let mut near = 0;
     for q in &cut.fit.plane_points {
         let mut best = dist(&edges[near], q.x, q.y);
-        let window = (best + h_max) * (1.0 + 1e-9);
+        let window = (best + h_max) * (1.0 + ROUNDING_MARGIN);
         let lo = xs.partition_point(|&x| x < q.x - window);
         let hi = xs.partition_point(|&x| x <= q.x + window);
         for &i in &by_x[lo..hi] {
@@ -572,8 +573,8 @@ pub(in crate::body) fn drop_outliers(
                 .filter(|&j| j != i)
                 .map(|j| plan.cuts[j].area)
                 .collect();
-            near.sort_by(Real::total_cmp);
-            let med = near[near.len() / 2];
+            // At least two neighbours, as n >= 3.
+            let med = median(&mut near).unwrap_or(Real::NAN);
             let a = plan.cuts[i].area;
             a >= 0.5 * med && a <= 2.0 * med && !wild(&plan.cuts[i], opts)
         })
@@ -624,8 +625,8 @@ pub(in crate::body) fn refine(
         }
         off <= far
     });
-    // One pass: a second one (for outliers among outliers) dropped real
-    // sections of the base mesh's feet and hands (RMS 3.2 -> 4.6 mm).
+    // One pass: a second one (outliers among outliers) would drop real
+    // sections of feet and hands.
     let plan = drop_outliers(plan, opts, warnings);
     let (mut built, mut cuts) = build_part(
         plan,

@@ -3,6 +3,7 @@
 
 use super::*;
 use crate::geom::parallel::parallel_map;
+use crate::geom::stats::median;
 
 mod build;
 pub(super) use build::*;
@@ -52,17 +53,12 @@ pub(super) fn cut_and_fit(
         BodyGeometry::Mesh(_) => base,
     };
     // A mesh's section is a polygon whose edges lie on the surface: the
-    // curve is fitted to its corners and its edges' midpoints, not to the
-    // corners alone. Through the corners only, a curve bulges past every
-    // chord (each arc holds its edge's sagitta): the model's volume came
-    // out 0.99 / 1.10 / 1.07 % over the base / male / female meshes'
-    // (over the 1 % issue 6 allows), with the midpoints 0.69 / 0.78 /
-    // 0.74 %. The tape girths, which rest on the corners, come out a
-    // little shorter (thigh −2.0 → −3.6 mm on the base mesh, all 36 still
-    // within 4 mm); corner, midpoint and third points (three per edge)
-    // shorten them further (thigh −3.8 mm) for little volume (0.63-0.73 %).
-    // A cloud's outline is a contour of occupied cells, not surface: its
-    // corners only.
+    // curve is fitted to its corners and its edges' midpoints. Through the
+    // corners alone a curve bulges past every chord (each arc holds its
+    // edge's sagitta), and the volume comes out over the 1 % issue 6
+    // allows; more points per edge would shorten the tape girths, which
+    // rest on the corners, for little volume. A cloud's outline is a
+    // contour of occupied cells, not surface: its corners only.
     let points: std::borrow::Cow<'_, [Point3]> = match body {
         BodyGeometry::Mesh(_) => cut.outline.with_edge_midpoints().into(),
         BodyGeometry::Cloud(_) => (&cut.outline.points[..]).into(),
@@ -85,8 +81,7 @@ pub(super) fn cut_and_fit(
 /// The largest relative difference between a torso section's tape girth
 /// (the perimeter of the fitted curve's convex hull) and its loop's that
 /// the order choice accepts on a mesh (see [`with_tape_girth`]): 4 mm on a
-/// 1 m girth, the agreement issue 6 asks of girths. (At 0.5 % the female
-/// mesh's chest came out 4.1 mm short; measured.)
+/// 1 m girth, the agreement issue 6 asks of girths.
 pub(super) const TORSO_TAPE_TOLERANCE: Real = 0.004;
 
 /// Raises the order of a torso section's fit until its tape girth (the
@@ -94,9 +89,8 @@ pub(super) const TORSO_TAPE_TOLERANCE: Real = 0.004;
 /// `tolerance` of the loop's own tape girth, or the order limit is reached
 /// (then the best of the orders tried is kept). Chest, waist and hip
 /// girths are tape girths of torso sections (issue 6): a curve meeting
-/// E_a and E_M can still round off the peaks a tape spans (measured: the
-/// female mesh's chest section at order 12 meets E_a 1.00 %, E_M 4.9 %,
-/// and its tape girth is 5.4 mm short of the mesh's). Only the torso
+/// E_a and E_M can still round off the peaks a tape spans (a chest's
+/// breasts), and its girth then falls short. Only the torso
 /// below the armpits (where tape girths are taken) is checked, and only on
 /// meshes: a scan's loop is noisy, and its hull follows the noise outward.
 fn with_tape_girth(
@@ -142,9 +136,8 @@ fn with_tape_girth(
 ///
 /// A hanging arm's axis never projects into a torso loop, but above the
 /// armpit a horizontal cut still meets the arm's root obliquely and runs a
-/// long way down it (the male mesh's loop 5 mm above the armpit reached
-/// ±303 mm against the chest's ±177 mm below it): the skin between the two
-/// stood out as a thin flange past the arm. Above the armpit the loop is
+/// long way down it (far wider than the chest below): the skin between the
+/// two would stand out as a thin flange past the arm. Above the armpit the loop is
 /// therefore clipped:
 ///
 /// * where the arm ends on the torso's side through a transition
@@ -187,12 +180,10 @@ pub(super) fn torso_without_arms(
         let Some(d) = far.and_then(|w| (w - a).normalized()) else {
             continue;
         };
-        let mut radii = axis.radii.clone();
-        radii.sort_by(Real::total_cmp);
-        let r = radii.get(radii.len() / 2).copied().unwrap_or(0.0);
-        // A shoulder's own loops hold the upper arm's first decimetre
-        // (measured: clipping there cost the A-pose meshes 0.1-0.4 mm of
-        // p95); a loop along the arm reaches much further.
+        let r = median(&mut axis.radii.clone()).unwrap_or(0.0);
+        // A shoulder's own loops hold the upper arm's first decimetre, and
+        // clipping them costs accuracy; a loop along the arm reaches much
+        // further.
         let reach = (2.0 * r).max(0.25 * axis.length());
         let step = (axis.points.len() / 24).max(1);
         // The loop projected once, not once per axis point (`contains`).

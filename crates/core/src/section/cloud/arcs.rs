@@ -4,6 +4,7 @@
 use super::grid::Grid;
 use super::representatives;
 use crate::geom::math::{Point2, Real, Vec2};
+use crate::geom::tolerance::PIVOT_EPS;
 
 /// Angular bins of [`merge_arcs`]' coverage measure (5° each).
 const COVERAGE_BINS: usize = 72;
@@ -25,8 +26,7 @@ const COVERAGE_BINS: usize = 72;
 /// Triples are needed where a loop is broken twice: a pair of its three
 /// arcs has one junction across the third arc's place, where the radii of
 /// an elongated loop (a torso at the shoulders, 2.7 : 1) legitimately
-/// differ by far more than 25 % (measured on the male virtual scan's torso
-/// at 0.80 H: 0.055 against 0.195 of the height across the missing arc).
+/// differ by far more than 25 %.
 ///
 /// Each arc is given as (a sample of its points for the decision, all its
 /// points); the joined point lists are returned.
@@ -202,9 +202,8 @@ fn merge_gain(arcs: &[&[usize]], floor: usize, pts: &[Point2]) -> Option<usize> 
     }
     if arcs.len() > 2 {
         // A loop broken more than once by small holes: every hole short
-        // against the loop. (Measured on the shared virtual scans, the
-        // good triples' holes are 0.3-0.8 % of the perimeter; a torso arc
-        // joined to an arm's, 7.6 %.)
+        // against the loop (a torso arc joined to an arm's leaves a wide
+        // one).
         let at = |k: usize| {
             let (a, r, _) = polar[k % n];
             Vec2::new(r * a.cos(), r * a.sin())
@@ -266,7 +265,7 @@ fn circle_centre(points: impl Iterator<Item = Vec2>) -> Option<Vec2> {
         }
     }
     let flat: Vec<Real> = m.iter().flatten().copied().collect();
-    let lu = crate::geom::linalg::Lu::factor(&flat, 3, 1e-12)?;
+    let lu = crate::geom::linalg::Lu::factor(&flat, 3, PIVOT_EPS)?;
     let s = lu.solve(&r);
     let c = Vec2::new(-s[0] / 2.0, -s[1] / 2.0);
     c.is_finite().then_some(c)

@@ -56,6 +56,7 @@
 use crate::curve::fit::FitOptions;
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::{MeshError, PointCloud};
+use crate::geom::stats::median;
 use crate::section::mesh::{plane_axes, select_loop, Plane, SectionLoop};
 use thiserror::Error;
 
@@ -70,13 +71,9 @@ use grid::{Grid, NONE};
 /// The smoothness penalty [`scan_fit_options`] sets by default, `λ = 1e-5`
 /// (the penalty is scale-free: both terms are squared lengths).
 ///
-/// Measured on the MakeHuman male's virtual scan with a quarter of a thigh
-/// or calf loop removed (16 holes), fitted at the automatic order: without
-/// the penalty the curve runs away across the hole (up to metres RMS from
-/// the mesh section's curve); with `λ = 1e-5` it stays within 0.8–3.8 mm,
-/// with `1e-4` within 0.6–3.2 mm. At a known order (the mesh section's)
-/// the penalty changes little on low orders but costs up to 0.4 mm on
-/// high ones (a hip loop at J = 22), hence the smaller value.
+/// Without it a curve fitted across a hole in a scanned loop runs away
+/// from the surface; a larger penalty holds it closer over holes but
+/// rounds off the high orders of loops without one, hence the small value.
 pub const DEFAULT_SCAN_SMOOTHING: Real = 1e-5;
 
 /// Fit options for a scanned loop: `base` with the smoothness penalty
@@ -546,7 +543,8 @@ fn untangle(reps: &mut [usize], pts: &[Point2]) {
     }
 }
 
-/// Smallest `|g|²` at which [`onto_plane`] moves a point.
+/// Smallest `|g|²` at which [`onto_plane`] moves a point: `|g| = 0.2`, a
+/// surface normal about 11.5° off the axis.
 const MIN_TANGENT_SLOPE2: Real = 0.04;
 
 /// Moves `p` (height `h = p·a − c` above the plane `{x : x·a = c}`) within
@@ -560,9 +558,11 @@ const MIN_TANGENT_SLOPE2: Real = 0.04;
 /// On an inclined surface, projecting straight along the axis shifts a
 /// point by `h tan θ` sideways (θ the surface's inclination); where the slab
 /// sees the surface only on one side of the plane (occlusion, grazing
-/// views) that shift does not average out and biases the loop. Surfaces
-/// within 60° of facing along the axis (`|g|² < ¼`) and invalid normals are
-/// projected straight.
+/// views) that shift does not average out and biases the loop. For a unit
+/// axis `|g|` is the sine of the angle between the normal and the axis, and
+/// the move is `h / |g|` long: surfaces whose normal lies within about
+/// 11.5° of the axis (`|g|² < 0.04`), where the move would grow without
+/// bound, and invalid normals are projected straight.
 pub fn onto_plane(p: Point3, n: Vec3, a: Vec3, c: Real) -> Point3 {
     let Some(n) = n.normalized() else {
         return p;
@@ -605,12 +605,8 @@ fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real]) -> Optio
             .filter_map(|&s| nearest_in_sweep(points, order, heights, s * n / samples))
             .collect()
     });
-    if d.is_empty() {
-        return None;
-    }
-    let k = d.len() / 2;
-    let median = *d.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
-    (median > 0.0).then_some(2.0 * median)
+    let m = median(&mut d)?;
+    (m > 0.0).then_some(2.0 * m)
 }
 
 /// The distance from the point of sorted rank `i` to its nearest other
@@ -652,22 +648,16 @@ fn nearest_in_sweep(points: &[Point3], order: &[u32], heights: &[Real], i: usize
 fn representatives(mut keys: Vec<(u32, usize)>, pts: &[Point2], cell: Real) -> Vec<usize> {
     keys.sort_unstable();
     let mut reps = Vec::new();
-    let mut i = 0;
     let mut xs = Vec::new();
     let mut ys = Vec::new();
-    while i < keys.len() {
-        let mut j = i;
-        while j < keys.len() && keys[j].0 == keys[i].0 {
-            j += 1;
-        }
-        let group = &keys[i..j];
+    for group in keys.chunk_by(|a, b| a.0 == b.0) {
         xs.clear();
         ys.clear();
         xs.extend(group.iter().map(|g| pts[g.1].x));
         ys.extend(group.iter().map(|g| pts[g.1].y));
-        let k = xs.len() / 2;
-        let mx = *xs.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
-        let my = *ys.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
+        let (Some(mx), Some(my)) = (median(&mut xs), median(&mut ys)) else {
+            continue;
+        };
         let med = Vec2::new(mx, my);
         let kept: Vec<usize> = group
             .iter()
@@ -684,7 +674,6 @@ fn representatives(mut keys: Vec<(u32, usize)>, pts: &[Point2], cell: Real) -> V
                 reps.push(best);
             }
         }
-        i = j;
     }
     reps
 }

@@ -1,15 +1,18 @@
-//! Arms found on a mesh's own surface, whatever the pose: distances along
+//! Arms found on the body's own surface, whatever the pose: distances along
 //! the surface from the crotch are largest at the hands, feet and head top
 //! (an arm touching or crossing the torso, or raised above the head, is
-//! still a separate sheet of the mesh), and level sets of the distance from
+//! still a separate sheet of a mesh), and level sets of the distance from
 //! a hand are rings around the arm up to where they spread over the
-//! shoulder. The segmentation asks for it on a side where no arm hangs
-//! from the horizontal slice graph: alone where the slices across the body
-//! find no arm, else to follow a bent forearm out to the hand.
+//! shoulder. A mesh's surface is its edges; a cloud's, a graph of the
+//! cubes its points fill ([`cloud_graph`]: an arm closer to the torso than
+//! a cube joins it there). The segmentation joins its sliced arms with
+//! these ([`super::arms`]): alone where the slices find no arm, else to
+//! follow a bent forearm out to the hand.
 
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
 use crate::geom::stats::median;
+use std::borrow::Cow;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::sync::OnceLock;
@@ -41,6 +44,11 @@ const BAND: Real = 0.01;
 /// A ring wider than this many times the arm's median ring has reached
 /// the shoulder.
 const SHOULDER_WIDE: Real = 1.6;
+/// The cube side (fraction of `H`) of a cloud's surface graph: a few
+/// scanner spacings, well under an arm's width.
+const CLOUD_CELL: Real = 0.006;
+/// Most cubes of a cloud's dense grid (the cube grows beyond).
+const CLOUD_CUBES: Real = 8.0e6;
 /// Extremities closer than this (fraction of `H`) are one (a hand's
 /// fingertips, a foot's toes).
 const EXTREMITY_GAP: Real = 0.12;
@@ -66,6 +74,13 @@ impl SurfaceGraph {
                 }
             }
         }
+        SurfaceGraph::of_edges(edges, &m.positions)
+    }
+
+    /// The graph of directed `edges` (both directions given) between
+    /// `pos`, with lengths; duplicates merged.
+    fn of_edges(mut edges: Vec<(u32, u32)>, pos: &[Point3]) -> SurfaceGraph {
+        let n = pos.len();
         edges.sort_unstable();
         edges.dedup();
         let mut start = vec![0usize; n + 1];
@@ -77,7 +92,7 @@ impl SurfaceGraph {
         }
         let next: Vec<(u32, Real)> = edges
             .iter()
-            .map(|&(a, b)| (b, m.positions[a as usize].distance(m.positions[b as usize])))
+            .map(|&(a, b)| (b, pos[a as usize].distance(pos[b as usize])))
             .collect();
         let median_edge = median(&mut next.iter().map(|e| e.1).collect::<Vec<_>>()).unwrap_or(0.0);
         SurfaceGraph {
@@ -166,7 +181,7 @@ fn extremities(g: &SurfaceGraph, d: &[Real], pos: &[Point3], gap: Real) -> Vec<u
 /// Centroids and radii from the shoulder end out to the hand.
 fn arm_from_tip(
     g: &SurfaceGraph,
-    m: &Mesh,
+    pos: &[Point3],
     areas: &[Real],
     tip: usize,
     extent: Real,
@@ -178,7 +193,7 @@ fn arm_from_tip(
     for (v, &dv) in d.iter().enumerate() {
         let k = (dv / band) as usize;
         if dv.is_finite() && k < count {
-            sums[k].0 += m.positions[v] * areas[v];
+            sums[k].0 += pos[v] * areas[v];
             sums[k].1 += areas[v];
         }
     }
@@ -190,7 +205,7 @@ fn arm_from_tip(
     for (v, &dv) in d.iter().enumerate() {
         let k = (dv / band) as usize;
         if let Some(c) = centroid.get(k).copied().flatten() {
-            spread[k].0 += m.positions[v].distance(c) * areas[v];
+            spread[k].0 += pos[v].distance(c) * areas[v];
             spread[k].1 += areas[v];
         }
     }
@@ -221,13 +236,67 @@ fn arm_from_tip(
     (axis.len() >= 5).then_some(axis)
 }
 
+/// A cloud's surface graph: the centroids of its points in cubes of side
+/// `cell`, each linked to those of the 26 cubes around it (limbs farther
+/// apart than a cube stay apart) and weighing its point count; the cubes
+/// are laid from the cloud's lowest corner, so a moved cloud gives the same
+/// graph. `None` for no points or a cell that is not a positive length.
+fn cloud_graph(points: &[Point3], cell: Real) -> Option<(Vec<Point3>, SurfaceGraph, Vec<Real>)> {
+    if !(cell > 0.0 && cell.is_finite()) || points.is_empty() {
+        return None;
+    }
+    // A dense grid of cubes (grown when the cloud spans too many).
+    let (lo, cell, [nx, ny, nz]) = crate::geom::mesh::grid_layout(points, cell, CLOUD_CUBES);
+    let index = |p: Point3| {
+        let [x, y, z] = crate::geom::mesh::grid_cell(p, lo, cell, [nx, ny, nz]);
+        (z * ny + y) * nx + x
+    };
+    const NONE: u32 = u32::MAX;
+    let mut slot = vec![NONE; nx * ny * nz];
+    let mut cubes: Vec<(usize, Vec3, usize)> = Vec::new();
+    for p in points.iter().filter(|p| p.is_finite()) {
+        let c = index(*p);
+        if slot[c] == NONE {
+            slot[c] = cubes.len() as u32;
+            cubes.push((c, Vec3::ZERO, 0));
+        }
+        let cube = &mut cubes[slot[c] as usize];
+        cube.1 += *p;
+        cube.2 += 1;
+    }
+    // Numbered in grid order, whatever the points' order.
+    cubes.sort_unstable_by_key(|c| c.0);
+    for (k, c) in cubes.iter().enumerate() {
+        slot[c.0] = k as u32;
+    }
+    let pos: Vec<Point3> = cubes.iter().map(|c| c.1 / c.2 as Real).collect();
+    let weights: Vec<Real> = cubes.iter().map(|c| c.2 as Real).collect();
+    let mut edges = Vec::new();
+    for (a, &(c, _, _)) in cubes.iter().enumerate() {
+        let (x, y, z) = (c % nx, (c / nx) % ny, c / (nx * ny));
+        for dz in z.saturating_sub(1)..(z + 2).min(nz) {
+            for dy in y.saturating_sub(1)..(y + 2).min(ny) {
+                for dx in x.saturating_sub(1)..(x + 2).min(nx) {
+                    let b = slot[(dz * ny + dy) * nx + dx];
+                    if b != NONE && b as usize != a {
+                        edges.push((a as u32, b));
+                    }
+                }
+            }
+        }
+    }
+    let g = SurfaceGraph::of_edges(edges, &pos);
+    Some((pos, g, weights))
+}
+
 /// Ring centroids and radii along an arm, shoulder end first.
 type Rings = Vec<(Point3, Real)>;
 
-/// A mesh's surface walked from the crotch: what both sides' arm searches
+/// A body's surface walked from the crotch: what both sides' arm searches
 /// share, built once.
 pub(super) struct Surface<'m> {
-    m: &'m Mesh,
+    /// The graph's vertices: a mesh's own, or a cloud's voxel centroids.
+    pos: Cow<'m, [Point3]>,
     g: SurfaceGraph,
     areas: Vec<Real>,
     q: BodyQuery,
@@ -238,9 +307,25 @@ pub(super) struct Surface<'m> {
 }
 
 impl<'m> Surface<'m> {
+    /// A mesh's surface: its edges.
     pub(super) fn new(m: &'m Mesh, q: BodyQuery) -> Option<Surface<'m>> {
-        let pos = &m.positions;
         let g = SurfaceGraph::new(m);
+        Surface::walk(Cow::Borrowed(&m.positions), g, vertex_areas(m), q)
+    }
+
+    /// A cloud's surface: [`cloud_graph`] with cubes of side
+    /// [`CLOUD_CELL`] × `H`.
+    pub(super) fn of_cloud(points: &[Point3], q: BodyQuery) -> Option<Surface<'static>> {
+        let (pos, g, areas) = cloud_graph(points, CLOUD_CELL * q.extent)?;
+        Surface::walk(Cow::Owned(pos), g, areas, q)
+    }
+
+    fn walk(
+        pos: Cow<'m, [Point3]>,
+        g: SurfaceGraph,
+        areas: Vec<Real>,
+        q: BodyQuery,
+    ) -> Option<Surface<'m>> {
         // The nearest vertex on an edge (a loose vertex reaches nothing).
         let crotch = (0..pos.len())
             .filter(|&v| g.neighbours(v).next().is_some())
@@ -252,7 +337,7 @@ impl<'m> Surface<'m> {
         let from_crotch = g.distances(crotch as u32);
         let across = |v: Vec3| v - q.up * v.dot(q.up);
         let hfrac = |p: Point3| (p.dot(q.up) - q.floor) / q.extent;
-        let hands = extremities(&g, &from_crotch, pos, EXTREMITY_GAP * q.extent)
+        let hands = extremities(&g, &from_crotch, &pos, EXTREMITY_GAP * q.extent)
             .into_iter()
             .filter(|&v| hfrac(pos[v]) > 0.15)
             .filter(|&v| across(pos[v] - q.head).norm() > 0.07 * q.extent)
@@ -261,8 +346,8 @@ impl<'m> Surface<'m> {
             .map(|v| (v, OnceLock::new()))
             .collect();
         Some(Surface {
-            m,
-            areas: vertex_areas(m),
+            pos,
+            areas,
             g,
             q,
             hands,
@@ -272,11 +357,11 @@ impl<'m> Surface<'m> {
     /// The arm on `side` (the body's left or right, a unit vector): the
     /// first hand candidate whose arm ends on that side.
     pub(super) fn find_arm(&self, side: Vec3) -> Option<SurfaceArm> {
-        let (q, pos) = (&self.q, &self.m.positions);
+        let (q, pos) = (&self.q, &self.pos);
         let across = |v: Vec3| v - q.up * v.dot(q.up);
         self.hands.iter().find_map(|(v, rings)| {
             let axis = rings
-                .get_or_init(|| arm_from_tip(&self.g, self.m, &self.areas, *v, q.extent))
+                .get_or_init(|| arm_from_tip(&self.g, &self.pos, &self.areas, *v, q.extent))
                 .as_ref()?;
             let armpit = axis[0].0;
             // The shoulder end must lie on the side asked for, above the
@@ -348,10 +433,10 @@ mod tests {
     fn an_arm_ends_where_its_rings_widen() {
         let (m, tip) = tube(1.0);
         let g = SurfaceGraph::new(&m);
-        assert!(arm_from_tip(&g, &m, &vertex_areas(&m), tip, 1.0).is_none());
+        assert!(arm_from_tip(&g, &m.positions, &vertex_areas(&m), tip, 1.0).is_none());
         let (m, tip) = tube(0.4);
         let g = SurfaceGraph::new(&m);
-        let axis = arm_from_tip(&g, &m, &vertex_areas(&m), tip, 1.0).unwrap();
+        let axis = arm_from_tip(&g, &m.positions, &vertex_areas(&m), tip, 1.0).unwrap();
         // From the shoulder end to the hand, on the tube's line, the rings
         // the tube's radius.
         let top = axis[0].0;
@@ -360,6 +445,55 @@ mod tests {
         for (c, r) in &axis[..axis.len() - 2] {
             assert!(c.x.hypot(c.y) < 1e-3, "{c:?}");
             assert!((r - 0.05).abs() < 0.01 || c.z > 0.35, "{c:?} {r}");
+        }
+    }
+
+    #[test]
+    fn a_clouds_arm_ends_where_its_rings_widen() {
+        // The flared tube's surface sampled densely, as a scan would.
+        let m = shapes::cylinder(Vec3::ZERO, 0.05, 1.0, 401, 96);
+        let flare = 0.4;
+        let mut points: Vec<Point3> = m
+            .positions
+            .iter()
+            .map(|p| {
+                let s = 1.0 + 2.0 * ((p.z - flare).max(0.0) / 0.05).min(1.0);
+                Vec3::new(p.x * s, p.y * s, p.z)
+            })
+            .collect();
+        // The bottom cap, seen by the scanner too.
+        for i in 0..16 {
+            for j in 0..96 {
+                let (r, t) = (
+                    0.05 * i as Real / 16.0,
+                    j as Real / 96.0 * std::f64::consts::TAU,
+                );
+                points.push(Vec3::new(r * t.cos(), r * t.sin(), 0.0));
+            }
+        }
+        let (pos, g, w) = cloud_graph(&points, 0.01).unwrap();
+        assert!(cloud_graph(&points, 0.0).is_none());
+        assert!(cloud_graph(&points, Real::NAN).is_none());
+        // The cube at the bottom cap's centre is the hand.
+        let tip = (0..pos.len())
+            .min_by(|&a, &b| pos[a].norm().total_cmp(&pos[b].norm()))
+            .unwrap();
+        let d = g.distances(tip as u32);
+        // Along the tube the graph's distance is the length, up to the
+        // cubes' zigzag.
+        let far = (0..pos.len())
+            .filter(|&v| pos[v].z > 0.3 && pos[v].z < 0.31)
+            .map(|v| d[v])
+            .fold(Real::INFINITY, Real::min);
+        assert!(far > 0.29 && far < 0.36, "{far}");
+        let axis = arm_from_tip(&g, &pos, &w, tip, 1.0).unwrap();
+        let top = axis[0].0;
+        assert!(top.z > 0.3 && top.z < 0.45, "{top:?}");
+        // Near the tube's line (the cubes' diagonal steps bend the
+        // rings a little) and of its radius below the flare.
+        for (c, r) in axis.iter().filter(|(c, _)| c.z > 0.05 && c.z < 0.35) {
+            assert!(c.x.hypot(c.y) < 0.01, "{c:?}");
+            assert!((r - 0.05).abs() < 0.012, "{c:?} {r}");
         }
     }
 }

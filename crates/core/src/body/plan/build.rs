@@ -147,17 +147,35 @@ pub(in crate::body) fn build_part(
                 cuts.remove(k);
             }
             Err(PartError::MixedFrames { index, .. }) if cuts.len() > 2 => {
-                // The axis doubles back there (a wobbly scanned joint): the
-                // section faces against the part's run; drop it, not the part.
+                // The axis doubles back there (a wobbly scanned joint): drop
+                // the section facing against the run (maybe the first), not the part.
+                let k = if first_faces_back(&cuts) { 0 } else { index };
                 warnings.push(format!(
                     "{name}: section at {:.3} dropped (it faces against the part's run)",
-                    cuts[index].at
+                    cuts[k].at
                 ));
-                cuts.remove(index);
+                cuts.remove(k);
             }
             Err(source) => return Err(ReconstructError::Part { part: name, source }),
         }
     }
+}
+
+/// True when most sections' planes face the other way along the run of
+/// their centres than the first's does.
+fn first_faces_back(cuts: &[Cut]) -> bool {
+    let centre = |k: usize| cuts[k].fit.curve.frame.origin;
+    let along = |k: usize| {
+        let d = if k + 1 < cuts.len() {
+            centre(k + 1) - centre(k)
+        } else {
+            centre(k) - centre(k - 1)
+        };
+        cuts[k].fit.curve.frame.normal().dot(d) > 0.0
+    };
+    let first = along(0);
+    let against = (1..cuts.len()).filter(|&k| along(k) != first).count();
+    2 * against > cuts.len() - 1
 }
 
 /// What the report says of each cut's fit.

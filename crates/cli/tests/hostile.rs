@@ -653,3 +653,150 @@ fn a_single_limb_or_a_torso_without_head_is_refused() {
     );
     case(&d, &["reconstruct", &headless], 2, "not a standing body");
 }
+
+/// Sends `signal` (a name such as "INT") to process `pid`.
+#[cfg(unix)]
+fn signal(pid: u32, signal: &str) {
+    let sent = Command::new("kill")
+        .args(["-s", signal, &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(sent.success(), "kill -s {signal} {pid}");
+}
+
+/// Whether this process ignores signal `number` (Linux; a child inherits it).
+#[cfg(unix)]
+fn ignored(number: u32) -> bool {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            let line = s.lines().find_map(|l| l.strip_prefix("SigIgn:"))?;
+            u64::from_str_radix(line.trim(), 16).ok()
+        })
+        .is_some_and(|mask| mask >> (number - 1) & 1 == 1)
+}
+
+/// The hidden temporaries beside `out.xyz`.
+#[cfg(unix)]
+fn hidden(d: &Path) -> usize {
+    std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".out.xyz.trigbody-"))
+        .count()
+}
+
+/// Runs `scan` to `out.xyz` and, once its temporary shows, stops it
+/// (SIGSTOP), sends `signal` if the temporary is still there and lets it
+/// go on: the exit status and whether the signal landed mid-write.
+#[cfg(unix)]
+fn signalled_scan(
+    d: &Path,
+    signal_name: &str,
+    force: bool,
+    ignore: bool,
+) -> (std::process::ExitStatus, bool) {
+    let mut args = vec!["scan", BODY, "-o", "out.xyz"];
+    if force {
+        args.push("--force");
+    }
+    // `trap '' SIG` then exec: started with the signal ignored, as under
+    // `nohup` or in a shell's background job.
+    let trap = format!("trap '' {signal_name}; exec \"$0\" \"$@\"");
+    let mut command = if ignore {
+        let mut c = Command::new("sh");
+        c.args(["-c", &trap, BIN]);
+        c
+    } else {
+        Command::new(BIN)
+    };
+    let started = Instant::now();
+    let mut child = command
+        .args(&args)
+        .current_dir(d)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut live = false;
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if !live && hidden(d) == 1 {
+            signal(child.id(), "STOP");
+            // Still there once stopped: the signal lands mid-write.
+            live = hidden(d) == 1;
+            if live {
+                signal(child.id(), signal_name);
+            }
+            signal(child.id(), "CONT");
+        }
+        assert!(started.elapsed() < LIMIT, "SIG{signal_name}: a hang");
+        std::thread::sleep(Duration::from_micros(200));
+    };
+    (status, live)
+}
+
+/// SIGINT, SIGTERM and SIGHUP in the middle of a write: the process ends
+/// by the signal (a shell's 130, 143, 129), its temporary is removed and
+/// an existing target is byte for byte the old file; a signal ignored at
+/// the start stays ignored and the write completes. The run is stopped as
+/// soon as its temporary shows, so the signal lands while the temporary
+/// is live; a run that finished before that is checked too and tried
+/// again.
+#[cfg(unix)]
+#[test]
+fn a_signal_mid_write_leaves_the_old_file_and_no_temporary() {
+    use std::os::unix::process::ExitStatusExt;
+    let d = scratch("signals");
+    let target = d.join("out.xyz");
+    let mut whole: Option<Vec<u8>> = None;
+    let cases = [
+        ("INT", 2, true, true),
+        ("INT", 2, true, false),
+        ("TERM", 15, false, false),
+        ("HUP", 1, true, false),
+    ];
+    for (name, number, force, ignore) in cases {
+        let ignore_inherited = ignored(number);
+        let mut caught = false;
+        for _attempt in 0..3 {
+            let _ = std::fs::remove_file(&target);
+            if force {
+                std::fs::write(&target, b"OLD").unwrap();
+            }
+            let (status, live) = signalled_scan(&d, name, force, ignore);
+            assert_eq!(hidden(&d), 0, "SIG{name}: a temporary was left");
+            let now = std::fs::read(&target).ok();
+            match (status.signal(), status.code()) {
+                (Some(s), _) if s == number as i32 => {
+                    assert!(!ignore && !ignore_inherited, "SIG{name} was ignored");
+                    // A signal just after the rename finds the new file.
+                    let old: Option<&[u8]> = force.then_some(b"OLD");
+                    assert!(
+                        now.as_deref() == old || now == whole,
+                        "SIG{name}: the target was changed ({:?} bytes)",
+                        now.map(|b| b.len())
+                    );
+                    caught |= live;
+                }
+                // Finished: before the signal, or with it ignored.
+                (None, Some(0)) => {
+                    let now = now.expect("the finished scan");
+                    let lines = now.iter().filter(|&&b| b == b'\n').count();
+                    assert_eq!(lines, 200_000, "SIG{name}: finished");
+                    assert!(whole.is_none() || Some(&now) == whole.as_ref());
+                    whole = Some(now);
+                    caught |= live && (ignore || ignore_inherited);
+                }
+                other => panic!("SIG{name}: ended by {other:?}"),
+            }
+            if caught {
+                break;
+            }
+        }
+        assert!(caught, "SIG{name}: never sent mid-write");
+    }
+}

@@ -160,6 +160,12 @@ fn resource_bounds_are_exit_2_naming_the_option_and_its_range() {
     );
     assert!(!d.join("s.ply").exists() && !d.join("p.png").exists() && !d.join("m.obj").exists());
     assert_eq!(n, 13);
+    // Nor a hidden temporary: only the model file is there.
+    let names: Vec<String> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["m.json"]);
 }
 
 #[test]
@@ -235,6 +241,8 @@ fn hostile_meshes_end_quickly_with_a_clear_answer() {
             "{cmd}: {}",
             out.stderr
         );
+        // Measured 0.05 s (it was past 60 s).
+        assert!(out.elapsed < Duration::from_secs(5), "{:?}", out.elapsed);
     }
     // The body with 100 000 copies of its first face: the copies are
     // dropped with a warning and the body is the body.
@@ -257,12 +265,16 @@ fn hostile_meshes_end_quickly_with_a_clear_answer() {
             "1 2 3 ".repeat(1_700_000)
         ),
     );
-    case(
-        &d,
-        &["sections", &big],
-        2,
-        "bigface.obj: OBJ file, line 4: a face has 65537 corners, more than the 65536 allowed",
-    );
+    for cmd in ["sections", "reconstruct", "measure"] {
+        let out = case(
+            &d,
+            &[cmd, &big],
+            2,
+            "bigface.obj: OBJ file, line 4: a face has 65537 corners, more than the 65536 allowed",
+        );
+        // Measured 0.05-0.09 s and 16 MB (it was past 60 s and 1.4 GB).
+        assert!(out.elapsed < Duration::from_secs(5), "{:?}", out.elapsed);
+    }
     // Only degenerate faces.
     let flat = write(
         &d,
@@ -483,6 +495,46 @@ fn outputs_never_replace_inputs_or_each_other() {
             &format!("{link}: refusing to write over the input file"),
         );
         assert_eq!(std::fs::read(d.join("in.obj")).unwrap(), original);
+    }
+    // `mesh`'s input is a model file: a mesh name linked to it.
+    std::fs::hard_link(d.join("m.json"), d.join("m_link.obj")).unwrap();
+    let model = std::fs::read(d.join("m.json")).unwrap();
+    case(
+        &d,
+        &["mesh", "m.json", "-o", "m_link.obj", "--force"],
+        2,
+        "m_link.obj: refusing to write over the input file",
+    );
+    assert_eq!(std::fs::read(d.join("m.json")).unwrap(), model);
+    // A run that fails with --force leaves the file it was to replace.
+    std::fs::write(d.join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    for (args, keep) in [
+        (
+            &["reconstruct", "bad.obj", "-o", "keep.json", "--force"][..],
+            "keep.json",
+        ),
+        (
+            &[
+                "mesh", "m.json", "-o", "keep.obj", "--force", "--edge", "1e-7",
+            ][..],
+            "keep.obj",
+        ),
+        (
+            &[
+                "scan", "bad.obj", "-o", "keep.ply", "--force", "--points", "0",
+            ][..],
+            "keep.ply",
+        ),
+        (
+            &[
+                "render", "bad.obj", "-o", "keep.png", "--force", "--size", "1",
+            ][..],
+            "keep.png",
+        ),
+    ] {
+        std::fs::write(d.join(keep), b"KEEP").unwrap();
+        case(&d, args, 2, "");
+        assert_eq!(std::fs::read(d.join(keep)).unwrap(), b"KEEP", "{args:?}");
     }
     std::fs::hard_link(d.join("m.json"), d.join("m_link.json")).unwrap();
     case(

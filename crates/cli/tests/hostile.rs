@@ -852,3 +852,72 @@ fn a_signal_mid_write_leaves_the_old_file_and_no_temporary() {
         assert!(caught, "SIG{name}: never sent mid-write");
     }
 }
+
+/// Normal deviates from a fixed seed (xorshift64, Box-Muller).
+fn gaussians(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    move || (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos()
+}
+
+/// The report's RMS distance (mm) and design parameters; every part found.
+fn rms_and_parameters(report: &Path) -> (f64, u64) {
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(report).unwrap()).unwrap();
+    assert_eq!(r["parts"].as_array().map(Vec::len), Some(6), "{report:?}");
+    (
+        r["distance_mm"]["rms"].as_f64().unwrap(),
+        r["design_parameters"].as_u64().unwrap(),
+    )
+}
+
+/// A scan made twice as dense by merging it with a copy of itself jittered
+/// by 0.5 mm (each coordinate) is the same body, not "not a standing
+/// body": the point spacing is not taken from the twins.
+#[test]
+fn a_scan_merged_with_a_jittered_copy_is_the_same_body() {
+    let d = scratch("dense");
+    case(&d, &["scan", BODY, "-o", "one.xyz"], 0, "");
+    let text = std::fs::read_to_string(d.join("one.xyz")).unwrap();
+    let mut g = gaussians(19);
+    let mut twice = text.clone();
+    for line in text.lines() {
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .map(|t| t.parse().unwrap())
+            .collect();
+        let p: Vec<String> = (0..3).map(|k| (v[k] + 0.0005 * g()).to_string()).collect();
+        twice.push_str(&format!(
+            "{} {} {} {} {} {}\n",
+            p[0], p[1], p[2], v[3], v[4], v[5]
+        ));
+    }
+    write(&d, "twice.xyz", &twice);
+    case(
+        &d,
+        &["reconstruct", "one.xyz", "--report", "one.json"],
+        0,
+        "",
+    );
+    let out = case(
+        &d,
+        &["reconstruct", "twice.xyz", "--report", "twice.json"],
+        0,
+        "",
+    );
+    let (rms, params) = rms_and_parameters(&d.join("one.json"));
+    let (rms2, params2) = rms_and_parameters(&d.join("twice.json"));
+    println!(
+        "one: rms {rms:.2} mm, {params} parameters; twice: rms {rms2:.2} mm, {params2} ({:?})",
+        out.elapsed
+    );
+    assert!(rms2 < 1.25 * rms, "rms {rms2} against {rms}");
+    assert!(
+        (params2 as f64 / params as f64 - 1.0).abs() < 0.2,
+        "{params2} parameters against {params}"
+    );
+}

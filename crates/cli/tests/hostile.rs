@@ -921,3 +921,53 @@ fn a_scan_merged_with_a_jittered_copy_is_the_same_body() {
         "{params2} parameters against {params}"
     );
 }
+
+/// A mesh with its left arm deleted is a partial model whose head is still
+/// a head. Fails today: the segmentation puts the head's start at the
+/// chest (0.26 m above the origin, the whole body's head starts at 0.68 m)
+/// and caps it with a dome of 3 radii; RMS 12.6 mm against 1.33.
+#[test]
+#[ignore = "segmentation of a mesh without an arm: issue 19, the head of a partial body"]
+fn a_mesh_without_its_left_arm_keeps_its_head() {
+    let d = scratch("armless");
+    let body = std::fs::read_to_string(BODY).unwrap();
+    let v: Vec<[f64; 3]> = body
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|r| {
+            let c: Vec<f64> = r.split_whitespace().map(|t| t.parse().unwrap()).collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect();
+    // The left arm: faces with a corner at x > 0.22 m above y = 0.
+    let on_arm = |l: &str| {
+        l.split_whitespace().skip(1).any(|c| {
+            let i: usize = c.split('/').next().unwrap().parse().unwrap();
+            v[i - 1][0] > 0.22 && v[i - 1][1] > 0.0
+        })
+    };
+    let text: String = body
+        .lines()
+        .filter(|l| !(l.starts_with("f ") && on_arm(l)))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let armless = write(&d, "armless.obj", &text);
+    case(
+        &d,
+        &["reconstruct", &armless, "-o", "m.json"],
+        0,
+        "left arm not found",
+    );
+    let m: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("m.json")).unwrap()).unwrap();
+    let head = m["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "head")
+        .expect("a head");
+    let start = head["sections"][0]["frame"]["origin"][1].as_f64().unwrap();
+    let dome = head["caps"]["end"]["relative_height"].as_f64().unwrap();
+    assert!(start > 0.6, "the head starts at {start} m");
+    assert!(dome < 1.0, "a dome of {dome} radii");
+}

@@ -2,12 +2,14 @@
 //! printing and files; all geometry lives in the libraries.
 //!
 //! Exit codes: 0 success, 2 bad input or usage (message on stderr naming the
-//! file, line or value), 1 internal failure.
+//! file, line or value), 1 internal failure; SIGINT, SIGTERM and SIGHUP end
+//! the binary by that signal after removing unfinished outputs.
 //!
-//! This file is the root of the `trigbody` library, whose one public item
-//! is [`run`]: the binary (`src/bin/trigbody.rs`) and the Python package's
-//! `python -m trigbody` both call it, so they parse and run the same
-//! commands.
+//! This file is the root of the `trigbody` library, whose public items
+//! are [`run`] and [`catch_signals`]: the binary (`src/bin/trigbody.rs`)
+//! and the Python package's `python -m trigbody` both call `run`, so they
+//! parse and run the same commands; only the binary takes over the
+//! signals (in Python they stay the interpreter's).
 
 mod body_input;
 mod bounds;
@@ -30,6 +32,7 @@ mod output;
 mod panels;
 mod plausible;
 mod progress;
+mod signals;
 
 use clap::{Parser, Subcommand};
 
@@ -73,6 +76,13 @@ enum Command {
     /// Reconstruct many bodies in parallel: a model and report per input,
     /// a summary (JSON lines, CSV); failures are rows, not the end.
     Batch(cmd_batch::BatchArgs),
+}
+
+/// Makes SIGINT, SIGTERM and SIGHUP remove the outputs' unfinished
+/// temporaries before the process ends by the signal (an existing output
+/// is kept as it was); for a process that is the command line.
+pub fn catch_signals() {
+    signals::catch();
 }
 
 /// Runs the command line on `args` (the program name first) and returns

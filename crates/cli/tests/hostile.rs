@@ -160,6 +160,12 @@ fn resource_bounds_are_exit_2_naming_the_option_and_its_range() {
     );
     assert!(!d.join("s.ply").exists() && !d.join("p.png").exists() && !d.join("m.obj").exists());
     assert_eq!(n, 13);
+    // Nor a hidden temporary: only the model file is there.
+    let names: Vec<String> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["m.json"]);
 }
 
 #[test]
@@ -235,6 +241,8 @@ fn hostile_meshes_end_quickly_with_a_clear_answer() {
             "{cmd}: {}",
             out.stderr
         );
+        // Measured 0.05 s (it was past 60 s).
+        assert!(out.elapsed < Duration::from_secs(5), "{:?}", out.elapsed);
     }
     // The body with 100 000 copies of its first face: the copies are
     // dropped with a warning and the body is the body.
@@ -257,12 +265,16 @@ fn hostile_meshes_end_quickly_with_a_clear_answer() {
             "1 2 3 ".repeat(1_700_000)
         ),
     );
-    case(
-        &d,
-        &["sections", &big],
-        2,
-        "bigface.obj: OBJ file, line 4: a face has 65537 corners, more than the 65536 allowed",
-    );
+    for cmd in ["sections", "reconstruct", "measure"] {
+        let out = case(
+            &d,
+            &[cmd, &big],
+            2,
+            "bigface.obj: OBJ file, line 4: a face has 65537 corners, more than the 65536 allowed",
+        );
+        // Measured 0.05-0.09 s and 16 MB (it was past 60 s and 1.4 GB).
+        assert!(out.elapsed < Duration::from_secs(5), "{:?}", out.elapsed);
+    }
     // Only degenerate faces.
     let flat = write(
         &d,
@@ -484,6 +496,46 @@ fn outputs_never_replace_inputs_or_each_other() {
         );
         assert_eq!(std::fs::read(d.join("in.obj")).unwrap(), original);
     }
+    // `mesh`'s input is a model file: a mesh name linked to it.
+    std::fs::hard_link(d.join("m.json"), d.join("m_link.obj")).unwrap();
+    let model = std::fs::read(d.join("m.json")).unwrap();
+    case(
+        &d,
+        &["mesh", "m.json", "-o", "m_link.obj", "--force"],
+        2,
+        "m_link.obj: refusing to write over the input file",
+    );
+    assert_eq!(std::fs::read(d.join("m.json")).unwrap(), model);
+    // A run that fails with --force leaves the file it was to replace.
+    std::fs::write(d.join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    for (args, keep) in [
+        (
+            &["reconstruct", "bad.obj", "-o", "keep.json", "--force"][..],
+            "keep.json",
+        ),
+        (
+            &[
+                "mesh", "m.json", "-o", "keep.obj", "--force", "--edge", "1e-7",
+            ][..],
+            "keep.obj",
+        ),
+        (
+            &[
+                "scan", "bad.obj", "-o", "keep.ply", "--force", "--points", "0",
+            ][..],
+            "keep.ply",
+        ),
+        (
+            &[
+                "render", "bad.obj", "-o", "keep.png", "--force", "--size", "1",
+            ][..],
+            "keep.png",
+        ),
+    ] {
+        std::fs::write(d.join(keep), b"KEEP").unwrap();
+        case(&d, args, 2, "");
+        assert_eq!(std::fs::read(d.join(keep)).unwrap(), b"KEEP", "{args:?}");
+    }
     std::fs::hard_link(d.join("m.json"), d.join("m_link.json")).unwrap();
     case(
         &d,
@@ -652,4 +704,270 @@ fn a_single_limb_or_a_torso_without_head_is_refused() {
         "headless.json",
     );
     case(&d, &["reconstruct", &headless], 2, "not a standing body");
+}
+
+/// Sends `signal` (a name such as "INT") to process `pid`.
+#[cfg(unix)]
+fn signal(pid: u32, signal: &str) {
+    let sent = Command::new("kill")
+        .args(["-s", signal, &pid.to_string()])
+        .status()
+        .expect("kill");
+    assert!(sent.success(), "kill -s {signal} {pid}");
+}
+
+/// Whether this process ignores signal `number` (Linux; a child inherits it).
+#[cfg(unix)]
+fn ignored(number: u32) -> bool {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            let line = s.lines().find_map(|l| l.strip_prefix("SigIgn:"))?;
+            u64::from_str_radix(line.trim(), 16).ok()
+        })
+        .is_some_and(|mask| mask >> (number - 1) & 1 == 1)
+}
+
+/// The hidden temporaries beside `out.xyz`.
+#[cfg(unix)]
+fn hidden(d: &Path) -> usize {
+    std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".out.xyz.trigbody-"))
+        .count()
+}
+
+/// Runs `scan` to `out.xyz` and, once its temporary shows, stops it
+/// (SIGSTOP), sends `signal` if the temporary is still there and lets it
+/// go on: the exit status and whether the signal landed mid-write.
+#[cfg(unix)]
+fn signalled_scan(
+    d: &Path,
+    signal_name: &str,
+    force: bool,
+    ignore: bool,
+) -> (std::process::ExitStatus, bool) {
+    let mut args = vec!["scan", BODY, "-o", "out.xyz"];
+    if force {
+        args.push("--force");
+    }
+    // `trap '' SIG` then exec: started with the signal ignored, as under
+    // `nohup` or in a shell's background job.
+    let trap = format!("trap '' {signal_name}; exec \"$0\" \"$@\"");
+    let mut command = if ignore {
+        let mut c = Command::new("sh");
+        c.args(["-c", &trap, BIN]);
+        c
+    } else {
+        Command::new(BIN)
+    };
+    let started = Instant::now();
+    let mut child = command
+        .args(&args)
+        .current_dir(d)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut live = false;
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if !live && hidden(d) == 1 {
+            signal(child.id(), "STOP");
+            // Still there once stopped: the signal lands mid-write.
+            live = hidden(d) == 1;
+            if live {
+                signal(child.id(), signal_name);
+            }
+            signal(child.id(), "CONT");
+        }
+        assert!(started.elapsed() < LIMIT, "SIG{signal_name}: a hang");
+        std::thread::sleep(Duration::from_micros(200));
+    };
+    (status, live)
+}
+
+/// SIGINT, SIGTERM and SIGHUP in the middle of a write: the process ends
+/// by the signal (a shell's 130, 143, 129), its temporary is removed and
+/// an existing target is byte for byte the old file; a signal ignored at
+/// the start stays ignored and the write completes. The run is stopped as
+/// soon as its temporary shows, so the signal lands while the temporary
+/// is live; a run that finished before that is checked too and tried
+/// again.
+#[cfg(unix)]
+#[test]
+fn a_signal_mid_write_leaves_the_old_file_and_no_temporary() {
+    use std::os::unix::process::ExitStatusExt;
+    let d = scratch("signals");
+    let target = d.join("out.xyz");
+    let mut whole: Option<Vec<u8>> = None;
+    let cases = [
+        ("INT", 2, true, true),
+        ("INT", 2, true, false),
+        ("TERM", 15, false, false),
+        ("HUP", 1, true, false),
+    ];
+    for (name, number, force, ignore) in cases {
+        let ignore_inherited = ignored(number);
+        let mut caught = false;
+        for _attempt in 0..3 {
+            let _ = std::fs::remove_file(&target);
+            if force {
+                std::fs::write(&target, b"OLD").unwrap();
+            }
+            let (status, live) = signalled_scan(&d, name, force, ignore);
+            assert_eq!(hidden(&d), 0, "SIG{name}: a temporary was left");
+            let now = std::fs::read(&target).ok();
+            match (status.signal(), status.code()) {
+                (Some(s), _) if s == number as i32 => {
+                    assert!(!ignore && !ignore_inherited, "SIG{name} was ignored");
+                    // A signal just after the rename finds the new file.
+                    let old: Option<&[u8]> = force.then_some(b"OLD");
+                    assert!(
+                        now.as_deref() == old || now == whole,
+                        "SIG{name}: the target was changed ({:?} bytes)",
+                        now.map(|b| b.len())
+                    );
+                    caught |= live;
+                }
+                // Finished: before the signal, or with it ignored.
+                (None, Some(0)) => {
+                    let now = now.expect("the finished scan");
+                    let lines = now.iter().filter(|&&b| b == b'\n').count();
+                    assert_eq!(lines, 200_000, "SIG{name}: finished");
+                    assert!(whole.is_none() || Some(&now) == whole.as_ref());
+                    whole = Some(now);
+                    caught |= live && (ignore || ignore_inherited);
+                }
+                other => panic!("SIG{name}: ended by {other:?}"),
+            }
+            if caught {
+                break;
+            }
+        }
+        assert!(caught, "SIG{name}: never sent mid-write");
+    }
+}
+
+/// Normal deviates from a fixed seed (xorshift64, Box-Muller).
+fn gaussians(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    move || (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos()
+}
+
+/// The report's RMS distance (mm) and design parameters; every part found.
+fn rms_and_parameters(report: &Path) -> (f64, u64) {
+    let r: serde_json::Value = serde_json::from_slice(&std::fs::read(report).unwrap()).unwrap();
+    assert_eq!(r["parts"].as_array().map(Vec::len), Some(6), "{report:?}");
+    (
+        r["distance_mm"]["rms"].as_f64().unwrap(),
+        r["design_parameters"].as_u64().unwrap(),
+    )
+}
+
+/// A scan made twice as dense by merging it with a copy of itself jittered
+/// by 0.5 mm (each coordinate) is the same body, not "not a standing
+/// body": the point spacing is not taken from the twins.
+#[test]
+fn a_scan_merged_with_a_jittered_copy_is_the_same_body() {
+    let d = scratch("dense");
+    case(&d, &["scan", BODY, "-o", "one.xyz"], 0, "");
+    let text = std::fs::read_to_string(d.join("one.xyz")).unwrap();
+    let mut g = gaussians(19);
+    let mut twice = text.clone();
+    for line in text.lines() {
+        let v: Vec<f64> = line
+            .split_whitespace()
+            .map(|t| t.parse().unwrap())
+            .collect();
+        let p: Vec<String> = (0..3).map(|k| (v[k] + 0.0005 * g()).to_string()).collect();
+        twice.push_str(&format!(
+            "{} {} {} {} {} {}\n",
+            p[0], p[1], p[2], v[3], v[4], v[5]
+        ));
+    }
+    write(&d, "twice.xyz", &twice);
+    case(
+        &d,
+        &["reconstruct", "one.xyz", "--report", "one.json"],
+        0,
+        "",
+    );
+    let out = case(
+        &d,
+        &["reconstruct", "twice.xyz", "--report", "twice.json"],
+        0,
+        "",
+    );
+    let (rms, params) = rms_and_parameters(&d.join("one.json"));
+    let (rms2, params2) = rms_and_parameters(&d.join("twice.json"));
+    println!(
+        "one: rms {rms:.2} mm, {params} parameters; twice: rms {rms2:.2} mm, {params2} ({:?})",
+        out.elapsed
+    );
+    assert!(rms2 < 1.25 * rms, "rms {rms2} against {rms}");
+    assert!(
+        (params2 as f64 / params as f64 - 1.0).abs() < 0.2,
+        "{params2} parameters against {params}"
+    );
+}
+
+/// A mesh with its left arm deleted is a partial model whose head is still
+/// a head. Fails today: the segmentation puts the head's start at the
+/// chest (0.26 m above the origin, the whole body's head starts at 0.68 m)
+/// and caps it with a dome of 3 radii; RMS 12.6 mm against 1.33.
+#[test]
+#[ignore = "segmentation of a mesh without an arm: issue 19, the head of a partial body"]
+fn a_mesh_without_its_left_arm_keeps_its_head() {
+    let d = scratch("armless");
+    let body = std::fs::read_to_string(BODY).unwrap();
+    let v: Vec<[f64; 3]> = body
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|r| {
+            let c: Vec<f64> = r.split_whitespace().map(|t| t.parse().unwrap()).collect();
+            [c[0], c[1], c[2]]
+        })
+        .collect();
+    // The left arm: faces with a corner at x > 0.22 m above y = 0.
+    let on_arm = |l: &str| {
+        l.split_whitespace().skip(1).any(|c| {
+            let i: usize = c.split('/').next().unwrap().parse().unwrap();
+            v[i - 1][0] > 0.22 && v[i - 1][1] > 0.0
+        })
+    };
+    let text: String = body
+        .lines()
+        .filter(|l| !(l.starts_with("f ") && on_arm(l)))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let armless = write(&d, "armless.obj", &text);
+    case(
+        &d,
+        &["reconstruct", &armless, "-o", "m.json"],
+        0,
+        "left arm not found",
+    );
+    let m: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("m.json")).unwrap()).unwrap();
+    let head = m["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "head")
+        .expect("a head");
+    let start = head["sections"][0]["frame"]["origin"][1].as_f64().unwrap();
+    let dome = head["caps"]["end"]["relative_height"].as_f64().unwrap();
+    assert!(start > 0.6, "the head starts at {start} m");
+    assert!(dome < 1.0, "a dome of {dome} radii");
 }

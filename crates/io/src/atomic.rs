@@ -4,14 +4,45 @@
 //! hard-linked to the target's name (which fails if the name exists, with
 //! nothing written there) and then removed. An existing file is therefore
 //! either the old one or the whole new one, whatever happens (an error, a
-//! full disk, a signal, even `kill -9`); a killed run can leave only the
-//! hidden temporary. A device or FIFO is written in place (a rename would
-//! put a regular file where `/dev/null` was).
+//! full disk, a signal, even `kill -9`). The temporaries being written are
+//! listed, so that a handler of a terminating signal can remove them
+//! ([`remove_temporaries`]); only an uncatchable `kill -9` leaves one. A
+//! device or FIFO is written in place (a rename would put a regular file
+//! where `/dev/null` was).
 
 use crate::{IoError, Result};
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+/// The temporaries that exist now. A temporary is created and listed, and
+/// placed (or removed) and unlisted, under this lock, so whoever holds it
+/// sees every temporary on disk.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live() -> MutexGuard<'static, Vec<PathBuf>> {
+    LIVE.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Proof that the live temporaries were removed: while it is held no
+/// temporary is created or put in place (writers wait), so a process that
+/// keeps it until it ends leaves none.
+#[derive(Debug)]
+pub struct TemporariesRemoved {
+    _held: MutexGuard<'static, Vec<PathBuf>>,
+}
+
+/// Removes every temporary being written now and stops all writers: for a
+/// signal handler that then ends the process; an existing target stays as
+/// it was, since only a finished temporary ever replaces it.
+pub fn remove_temporaries() -> TemporariesRemoved {
+    let held = live();
+    for tmp in held.iter() {
+        let _ = std::fs::remove_file(tmp);
+    }
+    TemporariesRemoved { _held: held }
+}
 
 /// Writes what `write` produces to `path` (see the module doc); without
 /// `overwrite` an existing file is an [`IoError::AlreadyExists`] and stays
@@ -37,15 +68,23 @@ pub fn write_atomically(
         });
     }
     let tmp = temporary_beside(path);
-    let file = OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .map_err(|e| IoError::from(e).with_path(path))?;
-    let result = fill(file, write).and_then(|()| place(&tmp, path, overwrite));
+    let file = {
+        let mut live = live();
+        let file = OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+            .map_err(|e| IoError::from(e).with_path(path))?;
+        live.push(tmp.clone());
+        file
+    };
+    let filled = fill(file, write);
+    let mut live = live();
+    let result = filled.and_then(|()| place(&tmp, path, overwrite));
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    live.retain(|p| *p != tmp);
     result.map_err(|e| e.with_path(path))
 }
 
@@ -137,6 +176,34 @@ mod tests {
         write_atomically(&p, true, |w| Ok(w.write_all(b"two")?)).unwrap();
         assert_eq!(std::fs::read(&p).unwrap(), b"two");
         assert_eq!(entries(&d), 1);
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[test]
+    fn a_temporary_is_listed_while_it_is_written_and_removed_on_demand() {
+        let d = dir("live");
+        let p = d.join("a.txt");
+        std::fs::write(&p, b"old").unwrap();
+        let e = write_atomically(&p, true, |w| {
+            w.write_all(b"half")?;
+            let listed: Vec<PathBuf> = live()
+                .iter()
+                .filter(|t| t.starts_with(&d))
+                .cloned()
+                .collect();
+            assert_eq!(listed.len(), 1);
+            assert!(listed[0].exists());
+            drop(remove_temporaries());
+            assert!(!listed[0].exists());
+            Err(IoError::WrongKind {
+                path: None,
+                message: "stopped".into(),
+            })
+        });
+        assert!(e.is_err());
+        assert_eq!(std::fs::read(&p).unwrap(), b"old");
+        assert_eq!(entries(&d), 1);
+        assert!(!live().iter().any(|t| t.starts_with(&d)));
         std::fs::remove_dir_all(d).unwrap();
     }
 

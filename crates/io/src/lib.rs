@@ -54,7 +54,7 @@ pub mod tbm;
 mod text;
 pub mod xyz;
 
-pub use atomic::write_atomically;
+pub use atomic::{remove_temporaries, write_atomically, TemporariesRemoved};
 pub use error::{ElementPosition, FormatError, FormatErrorKind, IoError, Location, Result};
 pub use format::Format;
 pub use geometry::{Geometry, ReadNotes};

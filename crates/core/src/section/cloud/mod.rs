@@ -6,8 +6,10 @@
 //!
 //! 1. **Scale.** The cloud's point spacing `s ≈ ρ^{-1/2}` (`ρ` points per
 //!    unit area) is estimated once as twice the median nearest-neighbour
-//!    distance of a sample of points. Every length default below is a
-//!    multiple of `s`, so nothing assumes metres.
+//!    distance of a sample of points, passing over a point's near twins
+//!    when the points come in clusters (a scan merged with a jittered copy
+//!    of itself). Every length default below is a multiple of `s`, so
+//!    nothing assumes metres.
 //! 2. **Slab.** The points with `|p·n − c| ≤ t` (default `t = s`) are
 //!    projected into the plane. The points are sorted by height once, so
 //!    each slab is a contiguous range found by binary search.
@@ -63,10 +65,12 @@ use thiserror::Error;
 mod arcs;
 mod contour;
 mod grid;
+mod spacing;
 
 use arcs::{merge_arcs, order_by_angle};
 use contour::{order_component, Ordering};
 use grid::{Grid, NONE};
+use spacing::estimate_spacing;
 
 /// The smoothness penalty [`scan_fit_options`] sets by default, `λ = 1e-5`
 /// (the penalty is scale-free: both terms are squared lengths).
@@ -242,8 +246,7 @@ impl<'c> CloudSlicer<'c> {
         (self.order, self.heights)
     }
 
-    /// The estimated point spacing `s ≈ ρ^{-1/2}` (twice the median
-    /// nearest-neighbour distance).
+    /// The estimated point spacing `s ≈ ρ^{-1/2}` (see the module doc, 1).
     pub fn spacing(&self) -> Real {
         self.spacing
     }
@@ -585,61 +588,6 @@ fn check_len(name: &'static str, v: Option<Real>, default: Real) -> Result<Real,
             why: "must be finite and positive",
         }),
     }
-}
-
-/// Twice the median nearest-neighbour distance of up to 1000 evenly
-/// chosen points (a sorted sweep along the height axis: neighbours are
-/// searched outward in height until the height gap exceeds the best
-/// distance, at most 4096 steps each way).
-fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real]) -> Option<Real> {
-    let n = order.len();
-    if n < 2 {
-        return None;
-    }
-    let samples = n.min(1000);
-    // Each sample's nearest neighbour on its own, over the cores (in
-    // order).
-    let ss: Vec<usize> = (0..samples).collect();
-    let mut d: Vec<Real> = crate::geom::parallel::parallel_map(&ss, 64, |run| {
-        run.iter()
-            .filter_map(|&s| nearest_in_sweep(points, order, heights, s * n / samples))
-            .collect()
-    });
-    let m = median(&mut d)?;
-    (m > 0.0).then_some(2.0 * m)
-}
-
-/// The distance from the point of sorted rank `i` to its nearest other
-/// point (of a different position) found by [`estimate_spacing`]'s sweep,
-/// `None` when there is none.
-fn nearest_in_sweep(points: &[Point3], order: &[u32], heights: &[Real], i: usize) -> Option<Real> {
-    let n = order.len();
-    let p = points[order[i] as usize];
-    // `best` is √best2 (the root is monotone: a squared distance not
-    // below best2 cannot give a root below best, so only the others
-    // take one).
-    let (mut best, mut best2) = (Real::INFINITY, Real::INFINITY);
-    for dir in [-1isize, 1] {
-        let mut j = i as isize + dir;
-        let mut steps = 0;
-        while j >= 0 && (j as usize) < n && steps < 4096 {
-            let dh = (heights[j as usize] - heights[i]).abs();
-            if dh >= best {
-                break;
-            }
-            let q = points[order[j as usize] as usize];
-            let d2 = (p - q).norm_squared();
-            if d2 > 0.0 && d2 < best2 {
-                let dist = d2.sqrt();
-                if dist < best {
-                    (best, best2) = (dist, d2);
-                }
-            }
-            j += dir;
-            steps += 1;
-        }
-    }
-    best.is_finite().then_some(best)
 }
 
 /// Groups `(bin, point)` pairs by bin (in bin order), rejects points more

@@ -510,16 +510,21 @@ fn t_pose_arms_are_found_across_the_body() {
         for p in ALL_PARTS {
             assert!(s.part(p).is_some(), "{name}: {p} missing");
         }
-        for (arm, sign) in [(PartName::LeftArm, 1.0), (PartName::RightArm, -1.0)] {
+        for (arm, wrist, sign) in [
+            (PartName::LeftArm, LandmarkKind::LeftWrist, 1.0),
+            (PartName::RightArm, LandmarkKind::RightWrist, -1.0),
+        ] {
             let a = s.part(arm).unwrap();
-            let d = (a.points[a.points.len() - 1] - a.points[0])
-                .normalized()
-                .unwrap();
-            // Out sideways (the hands are held a little forward).
+            let w = s.landmark(wrist).unwrap().position;
+            let d = (w - a.points[0]).normalized().unwrap();
+            // Out sideways to the wrist (the forearms and hands of this
+            // body point forward: its fingertips lie 0.35 m in front).
             assert!(
                 d.x * sign > 0.85 && d.y.abs() < 0.15,
                 "{name}: {arm} runs along {d:?}"
             );
+            let tip = a.points[a.points.len() - 1];
+            assert!(tip.x * sign > 0.6, "{name}: {arm} ends at {tip:?}");
         }
         for kind in [LandmarkKind::LeftWrist, LandmarkKind::RightWrist] {
             let h = s.landmark(kind).unwrap().height_fraction;

@@ -155,7 +155,12 @@ pub enum PartError {
     #[error("sections {index} and {} have the same centre: the part has no length there", index + 1)]
     CoincidentSections { index: usize },
     #[error("section {index}'s plane normal points {}the part's axis while section 0's points {}it: orient all section frames alike", if *.flipped { "against " } else { "along " }, if *.flipped { "along " } else { "against " })]
-    MixedFrames { index: usize, flipped: bool },
+    MixedFrames {
+        index: usize,
+        flipped: bool,
+        /// Most sections face against section 0: it is the odd one.
+        first_is_odd: bool,
+    },
     #[error("section {index} runs {} about the axis, unlike section 0: give all curves the same direction", if *.clockwise { "clockwise" } else { "counter-clockwise" })]
     MixedOrientation { index: usize, clockwise: bool },
     #[error("the planes of sections {index} and {} cross inside the curves (a point of one curve lies beyond the other's plane by {depth:.3e}): the part would fold over itself", index + 1)]
@@ -415,9 +420,11 @@ impl Part {
         let first_ccw = (curves[0].area() > 0.0) == first_along;
         for k in 1..n {
             if along(k) != first_along {
+                let against = (1..n).filter(|&j| along(j) != first_along).count();
                 return Err(PartError::MixedFrames {
                     index: k,
                     flipped: first_along,
+                    first_is_odd: 2 * against > n - 1,
                 });
             }
             if ((curves[k].area() > 0.0) == along(k)) != first_ccw {

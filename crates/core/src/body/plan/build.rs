@@ -140,42 +140,32 @@ pub(in crate::body) fn build_part(
             | Err(PartError::CoincidentSections { index }) => {
                 // Drop the later section of the pair (never the first).
                 let k = (index + 1).min(cuts.len() - 1);
-                warnings.push(format!(
-                    "{name}: section at {:.3} dropped (its plane meets its neighbour's inside the curves)",
-                    cuts[k].at
-                ));
-                cuts.remove(k);
+                let why = "its plane meets its neighbour's inside the curves";
+                drop_cut(&mut cuts, k, name, why, warnings);
             }
-            Err(PartError::MixedFrames { index, .. }) if cuts.len() > 2 => {
-                // The axis doubles back there (a wobbly scanned joint): drop
-                // the section facing against the run (maybe the first), not the part.
-                let k = if first_faces_back(&cuts) { 0 } else { index };
-                warnings.push(format!(
-                    "{name}: section at {:.3} dropped (it faces against the part's run)",
-                    cuts[k].at
-                ));
-                cuts.remove(k);
+            Err(PartError::MixedFrames {
+                index,
+                first_is_odd,
+                ..
+            }) if cuts.len() > 2 => {
+                // The axis doubles back (a wobbly scanned joint): drop the
+                // section facing against the run (maybe the first), not the part.
+                let k = if first_is_odd { 0 } else { index };
+                let why = "it faces against the part's run";
+                drop_cut(&mut cuts, k, name, why, warnings);
             }
             Err(source) => return Err(ReconstructError::Part { part: name, source }),
         }
     }
 }
 
-/// True when most sections' planes face the other way along the run of
-/// their centres than the first's does.
-fn first_faces_back(cuts: &[Cut]) -> bool {
-    let centre = |k: usize| cuts[k].fit.curve.frame.origin;
-    let along = |k: usize| {
-        let d = if k + 1 < cuts.len() {
-            centre(k + 1) - centre(k)
-        } else {
-            centre(k) - centre(k - 1)
-        };
-        cuts[k].fit.curve.frame.normal().dot(d) > 0.0
-    };
-    let first = along(0);
-    let against = (1..cuts.len()).filter(|&k| along(k) != first).count();
-    2 * against > cuts.len() - 1
+/// Removes cut `k`, saying why in a warning.
+fn drop_cut(cuts: &mut Vec<Cut>, k: usize, name: PartName, why: &str, warnings: &mut Vec<String>) {
+    warnings.push(format!(
+        "{name}: section at {:.3} dropped ({why})",
+        cuts[k].at
+    ));
+    cuts.remove(k);
 }
 
 /// What the report says of each cut's fit.

@@ -497,8 +497,9 @@ struct LateralArm {
 /// surface rings follow the bend out to the hand but may stop short of the
 /// shoulder. When the hands disagree, the surface arm stands if it reaches
 /// the shoulder too (its armpit no farther out than the lateral one's);
-/// else the lateral arm runs out to where it leaves the surface arm's axis
-/// and the surface arm on to the hand. The hands agree when the lateral
+/// else the lateral arm runs out to its last cut across the arm on the
+/// surface arm's axis ([`splice_point`]) and the surface arm on to the
+/// hand. The hands agree when the lateral
 /// arm's tip lies within `slack` × `extent` of the surface's hand
 /// extremity.
 fn join_arms(
@@ -523,13 +524,7 @@ fn join_arms(
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap_or((0, Real::INFINITY))
     };
-    // The last of the lateral axis's points (shoulder first) on the surface
-    // arm's axis, within their radius or AXES_MEET × H.
-    let Some(last_on) = lateral
-        .axis
-        .iter()
-        .rposition(|&(p, r)| near_surface(p).1 <= r.max(AXES_MEET * extent))
-    else {
+    let Some(last_on) = splice_point(&lateral.axis, near_surface, extent) else {
         return lateral;
     };
     let (j, _) = near_surface(lateral.axis[last_on].0);
@@ -541,6 +536,39 @@ fn join_arms(
         tip: surface.tip,
         how: lateral.how,
     }
+}
+
+/// Where a sliced arm's `axis` (shoulder first) hands over to the surface
+/// arm: the last of its points on the surface arm's axis (`near` gives
+/// the nearest ring and its distance: within the point's radius or
+/// AXES_MEET × H) that a cut across the arm gave. Where the arm turns more
+/// than 60° from the slices' normal they cut it lengthwise and their
+/// centroids step more than twice as far as typical (1 / cos 60°). Past a
+/// point that falls back more than a ring behind an earlier one (the
+/// slices have run out along a bent arm and back) none is taken.
+fn splice_point(
+    axis: &[(Point3, Real)],
+    near: impl Fn(Point3) -> (usize, Real),
+    extent: Real,
+) -> Option<usize> {
+    let steps: Vec<Real> = axis.windows(2).map(|w| w[0].0.distance(w[1].0)).collect();
+    let typical = median(&mut steps.clone())?;
+    let mut ahead = 0;
+    let mut last = None;
+    for (i, &(p, r)) in axis.iter().enumerate() {
+        let (j, d) = near(p);
+        if d > r.max(AXES_MEET * extent) {
+            continue;
+        }
+        if j + 1 < ahead {
+            break;
+        }
+        ahead = ahead.max(j);
+        if i == 0 || steps[i - 1] <= 2.0 * typical {
+            last = Some(i);
+        }
+    }
+    last
 }
 
 /// How far (fraction of `H`) an arm's tip found in slices across the body
@@ -866,6 +894,56 @@ mod tests {
             let step = w[0].distance(w[1]);
             assert!(step > 1e-9 && step < 0.011, "step {step}");
         }
+    }
+
+    #[test]
+    fn a_sliced_arm_cut_along_a_bent_forearm_is_not_followed_back() {
+        // Past the elbow the slices across the body cut the forearm bent
+        // forward lengthwise: their centroids jump out along it and back.
+        let mut sliced = arm(line(SHOULDER, ELBOW, 30));
+        for y in [-0.12, -0.2, -0.06, -0.15] {
+            sliced.axis.push((Vec3::new(0.5, y, 1.4), 0.05));
+        }
+        sliced.tip = ELBOW + SIDE * 0.05;
+        let mut surface = line(ELBOW, HAND, 30);
+        surface.insert(0, (Vec3::new(0.45, 0.0, 1.4), 0.03));
+        let joined = join_arms(sliced, arm(surface), SIDE, 1.7, LATERAL_TIP_SLACK);
+        let pts: Vec<Point3> = joined.axis.iter().map(|p| p.0).collect();
+        assert_eq!(pts[0], SHOULDER);
+        assert_eq!(*pts.last().unwrap(), HAND);
+        // Out along the forearm without turning back.
+        for w in pts.windows(2) {
+            assert!(w[1].y <= w[0].y + 1e-12, "{pts:?}");
+            assert!(w[0].distance(w[1]) > 1e-9);
+        }
+    }
+
+    #[test]
+    fn a_splice_never_follows_the_slices_back_along_the_arm() {
+        // Even steps 0.1 out along the surface arm, then back.
+        let rings = line(SHOULDER, ELBOW, 30);
+        let near = |p: Point3| {
+            rings
+                .iter()
+                .enumerate()
+                .map(|(j, q)| (j, q.0.distance(p)))
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+                .unwrap()
+        };
+        let mut axis = line(SHOULDER, SHOULDER + SIDE * 0.1, 10);
+        axis.extend(
+            line(SHOULDER + SIDE * 0.1, SHOULDER, 10)
+                .into_iter()
+                .skip(1),
+        );
+        // A ring back is noise; two rings back is the turn.
+        assert_eq!(splice_point(&axis, near, 1.7), Some(11));
+        // One stray centroid is not a place to join, nor a reason to stop.
+        let mut axis = line(SHOULDER, ELBOW, 30);
+        axis[20].0.y += 0.05;
+        assert_eq!(splice_point(&axis, near, 1.7), Some(30));
+        axis[30].0.y += 0.05;
+        assert_eq!(splice_point(&axis, near, 1.7), Some(29));
     }
 
     #[test]

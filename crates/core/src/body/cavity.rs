@@ -309,7 +309,7 @@ mod tests {
     /// `r` turned inside out (a pocket of skin, as a mouth's lining), with
     /// a small solid sphere inside it (a tongue).
     fn hollow_head(r: Real) -> Mesh {
-        let centre = Vec3::new(0.0, 0.0, 1.55);
+        let centre = Vec3::new(0.0, 0.0, 1.6);
         let mut pocket = uv_sphere(centre, r, 24, 64);
         pocket.flip_orientation();
         let tongue = uv_sphere(centre - Vec3::new(0.0, 0.0, 0.3 * r), 0.3 * r, 12, 32);
@@ -332,7 +332,7 @@ mod tests {
         let m =
             crate::surface::tessellate::tessellate_part(&c.part, &TessellationOptions::default())
                 .unwrap();
-        let centre = Vec3::new(0.0, 0.0, 1.55);
+        let centre = Vec3::new(0.0, 0.0, 1.6);
         for p in &m.positions {
             let off = (p.distance(centre) - r).abs();
             assert!(off < 0.1 * r, "{p:?}: {off}");
@@ -343,8 +343,8 @@ mod tests {
             .fold((1e9, -1e9), |(lo, hi): (Real, Real), p| {
                 (lo.min(p.z), hi.max(p.z))
             });
-        assert!((lo - (1.55 - r)).abs() < 0.15 * r, "{lo}");
-        assert!((hi - (1.55 + r)).abs() < 0.15 * r, "{hi}");
+        assert!((lo - (1.6 - r)).abs() < 0.15 * r, "{lo}");
+        assert!((hi - (1.6 + r)).abs() < 0.15 * r, "{hi}");
         // Its volume is the sphere's within 2 %, and the
         // tessellation turned inside out encloses it negatively.
         let v = crate::measure::volume::volume_area_extent(&Body {

@@ -64,6 +64,7 @@
 use crate::anatomy::{BodyFrame, BodyGeometry, LandmarkKind, PartName};
 use crate::curve::fit::{fit_loop, FitOptions, LoopFit};
 use crate::curve::trig::TrigCurve;
+use crate::geom::holes::close_holes;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
 use crate::section::cloud::scan_fit_options;
@@ -481,17 +482,37 @@ pub fn reconstruct_with_progress(
         )),
         BodyGeometry::Mesh(_) => None,
     };
+    // A mesh's holes are closed: sections through them are open chains.
+    let original_vertices = match body {
+        BodyGeometry::Mesh(mesh) => mesh.positions.len(),
+        BodyGeometry::Cloud(cloud) => cloud.positions.len(),
+    };
+    let closed = match body {
+        BodyGeometry::Mesh(mesh) => close_holes(mesh),
+        BodyGeometry::Cloud(_) => None,
+    };
     let mut opts = *opts;
-    let body = match &cleaned {
-        Some((cloud, cleaning)) => {
+    let body = match (&cleaned, &closed) {
+        (Some((cloud, cleaning)), _) => {
             opts.segment.up = opts.segment.up.or(cleaning.floor_normal);
             BodyGeometry::Cloud(cloud)
         }
-        None => body,
+        (None, Some((mesh, _))) => BodyGeometry::Mesh(mesh),
+        (None, None) => body,
     };
     let mut result = reconstruct_steps(body, &opts, &mut progress);
-    if let (Ok((_, report)), Some((_, cleaning))) = (&mut result, &cleaned) {
-        let mut w = cleaning.warnings();
+    if let Ok((_, report)) = &mut result {
+        let mut w = cleaned.as_ref().map(|c| c.1.warnings()).unwrap_or_default();
+        if let Some((mesh, holes)) = &closed {
+            // The user's vertices, not the fans' centres.
+            report.input_vertices -= mesh.positions.len() - original_vertices;
+            w.push(format!(
+                "closed {} hole(s) in the mesh ({:.0} mm of rim, {:.2} % of its area added); the model and its distances use the closed mesh",
+                holes.holes,
+                holes.rim_length * opts.units.to_mm(),
+                100.0 * holes.area_share
+            ));
+        }
         w.append(&mut report.warnings);
         report.warnings = w;
     }

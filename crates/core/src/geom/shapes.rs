@@ -136,7 +136,7 @@ pub fn merge(meshes: &[Mesh]) -> Mesh {
 
 /// A crude standing "body" about 1.7 units tall along +z, facing +y, built
 /// from separate closed solids (which overlap, as a body's parts do not):
-/// two legs, a trunk, two vertical arms beside the trunk and a head.
+/// two legs, a trunk, two vertical arms beside the trunk, a neck and a head.
 /// `detail` scales the vertex count: about 3 300 `detail²` vertices
 /// (detail 2 ≈ 13 000, like the MakeHuman bodies).
 pub fn stick_body(detail: usize) -> Mesh {
@@ -148,6 +148,7 @@ pub fn stick_body(detail: usize) -> Mesh {
         cylinder(Vec3::new(0.0, 0.0, 0.8), 0.16, 0.65, rings, slices),
         cylinder(Vec3::new(-0.23, 0.0, 0.75), 0.045, 0.65, rings, slices),
         cylinder(Vec3::new(0.23, 0.0, 0.75), 0.045, 0.65, rings, slices),
-        uv_sphere(Vec3::new(0.0, 0.0, 1.55), 0.11, 8 * d, slices),
+        cylinder(Vec3::new(0.0, 0.0, 1.42), 0.055, 0.08, rings / 4, slices),
+        uv_sphere(Vec3::new(0.0, 0.0, 1.6), 0.11, 8 * d, slices),
     ])
 }

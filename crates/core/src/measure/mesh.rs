@@ -73,6 +73,7 @@
 use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};
 use crate::curve::fit::{fit_loop, FitError, FitOptions};
 use crate::curve::trig::TrigCurve;
+use crate::geom::holes::close_holes;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
 use crate::geom::tolerance::SIZING_ACCURACY;
@@ -448,13 +449,24 @@ pub fn measure_mesh(mesh: &Mesh, opts: &MeasureOptions) -> Result<Measurements, 
             why: "must be finite",
         });
     }
+    // Girths through a hole are open chains and an open mesh has no volume:
+    // its holes are closed first.
+    let closed = close_holes(mesh);
+    let mut warnings = Vec::new();
+    if let Some((_, holes)) = &closed {
+        warnings.push(format!(
+            "closed {} hole(s) in the mesh ({:.2} % of its area added); girths and volume are of the closed mesh",
+            holes.holes,
+            100.0 * holes.area_share
+        ));
+    }
+    let mesh = closed.as_ref().map_or(mesh, |c| &c.0);
     let seg = segment(BodyGeometry::Mesh(mesh), &opts.segment)?;
     let up = seg.frame.up;
     let floor = seg.frame.origin.dot(up);
     let h = seg.height;
     let slicer = MeshSlicer::new(mesh, up, &opts.segment.section)?;
     let mut measurements = Vec::new();
-    let mut warnings = Vec::new();
 
     measurements.push(Measurement {
         name: "stature",

@@ -9,6 +9,14 @@ use crate::segment::frame::{Found, Landmarking};
 use crate::segment::graph::girth_contrast;
 use crate::segment::{PartAxis, SegmentError};
 
+/// The least length of a head from the neck to its top, as a fraction of
+/// the body's height: an adult's is about 0.13-0.15, a child's more.
+const MIN_HEAD: Real = 0.06;
+/// The least contrast (`1 − neck / widest`, hull girths) of a neck against
+/// the widest trunk loop above the armpits: 0.6-0.75 on every body and
+/// scan of the development corpus, 0.2-0.3 on a torso whose neck is closed.
+const MIN_NECK_CONTRAST: Real = 0.4;
+
 impl Landmarking<'_> {
     /// The crotch landmark, between the legs' top loops at the bottom of
     /// the slice where they merge. Returns it and its height above the
@@ -49,6 +57,21 @@ impl Landmarking<'_> {
         let (crotch_node, crotch_slice) = (trunk.crotch_node, trunk.crotch_slice);
         let (neck_node, neck_conf) = self.find_neck(trunk, armpit_slice)?;
         let neck_p = g.nodes[neck_node].centroid;
+        // A torso without its head (a neck cut off and closed) has no neck
+        // much narrower than the loops above the armpits, nor a head above.
+        let head_len = (g.nodes[top_node].slice - g.nodes[neck_node].slice) as Real * step;
+        if neck_conf < MIN_NECK_CONTRAST || head_len < MIN_HEAD * extent {
+            return Err(SegmentError::NotAStandingBody {
+                what: "the head",
+                why: format!(
+                    "the narrowest slice above the armpits is {:.0} % narrower than the widest (a neck: at least {:.0} %) and the trunk runs {:.1} % of the height above it (a head: at least {:.0} %)",
+                    100.0 * neck_conf,
+                    100.0 * MIN_NECK_CONTRAST,
+                    100.0 * head_len / extent,
+                    100.0 * MIN_HEAD
+                ),
+            });
+        }
         out.landmarks.push(Landmark {
             kind: LandmarkKind::Neck,
             position: neck_p,

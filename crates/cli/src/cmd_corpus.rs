@@ -125,7 +125,7 @@ pub fn run(args: CorpusArgs) -> Result<()> {
             result,
             seconds,
         };
-        eprintln!("[{}] {}", k + 1, row_text(&o));
+        crate::exit::diag(format_args!("[{}] {}", k + 1, row_text(&o)));
         outcomes.push(o);
     }
     let md = markdown(&outcomes);

@@ -168,7 +168,7 @@ pub fn run(args: FitArgs) -> Result<()> {
     opts.allow_non_planar = args.allow_non_planar;
     let fit = fit_points(&points, &opts).map_err(|e| bad(format!("{name}: {e}")))?;
     for w in &fit.warnings {
-        eprintln!("trigbody: warning: {name}: {w}");
+        crate::exit::diag(format_args!("trigbody: warning: {name}: {w}"));
     }
     let mut out = if args.json {
         serde_json::to_string_pretty(&loop_fit_json(&fit)).context("encoding JSON")? + "\n"

@@ -218,14 +218,14 @@ pub fn run(args: LoftArgs) -> Result<()> {
         .iter()
         .map(|t| t.abs().to_degrees())
         .fold(0.0, Real::max);
-    println!(
-        "{}: {count} curves, {} patches, length {:.4} {}, {} design parameters, skinning {}, largest twist correction {twist:.1}°",
+    crate::exit::print(&format!(
+        "{}: {count} curves, {} patches, length {:.4} {}, {} design parameters, skinning {}, largest twist correction {twist:.1}°\n",
         args.output.display(),
         part.segments().len(),
         part.length(),
         model.units,
         part.design_parameters(),
         options.skinning.name()
-    );
+    ))?;
     Ok(())
 }

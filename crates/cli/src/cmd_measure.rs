@@ -60,7 +60,7 @@ pub fn run(args: MeasureArgs) -> Result<()> {
     let m = &b.measurements;
     let input = args.body.display().to_string();
     for w in &m.warnings {
-        eprintln!("trigbody: warning: {input}: {w}");
+        crate::exit::diag(format_args!("trigbody: warning: {input}: {w}"));
     }
     if args.json {
         let mut text =

@@ -112,11 +112,11 @@ pub fn run(args: MeshArgs) -> Result<()> {
     let (v, t) = pieces.iter().fold((0, 0), |(v, t), (_, m)| {
         (v + m.positions.len(), t + m.triangles.len())
     });
-    println!(
-        "{out_name}: {} part(s) in {} piece(s), {v} vertices, {t} triangles",
+    crate::exit::print(&format!(
+        "{out_name}: {} part(s) in {} piece(s), {v} vertices, {t} triangles\n",
         model.parts.len(),
         pieces.len()
-    );
+    ))?;
     Ok(())
 }
 

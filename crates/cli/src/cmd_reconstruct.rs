@@ -280,7 +280,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
     };
     let inputs: Vec<&std::path::Path> = args.input.as_deref().into_iter().collect();
     for w in &report.warnings {
-        eprintln!("trigbody: warning: {name}: {w}");
+        crate::exit::diag(format_args!("trigbody: warning: {name}: {w}"));
     }
     let outputs = Outputs {
         model: args.output.as_deref(),

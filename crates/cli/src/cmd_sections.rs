@@ -306,7 +306,7 @@ fn fit_levels(
                 }
                 Err(e) => {
                     let e = format!("{name}: loop {i} at offset {offset}: {e}");
-                    eprintln!("trigbody: warning: {e}");
+                    crate::exit::diag(format_args!("trigbody: warning: {e}"));
                     out.first_error.get_or_insert(e);
                 }
             }
@@ -353,10 +353,10 @@ fn loops_at(
         match s.section_at(offset) {
             Ok(sec) => {
                 for c in &sec.open_chains {
-                    eprintln!(
+                    crate::exit::diag(format_args!(
                         "trigbody: warning: {name}: an open chain of {} points at offset {offset} (open or non-manifold surface)",
                         c.len()
-                    );
+                    ));
                 }
                 sec.loops
                     .into_iter()
@@ -369,7 +369,7 @@ fn loops_at(
                     .collect()
             }
             Err(e) => {
-                eprintln!("trigbody: warning: {name}: {e}");
+                crate::exit::diag(format_args!("trigbody: warning: {name}: {e}"));
                 Vec::new()
             }
         }
@@ -390,7 +390,7 @@ fn loops_at(
                 })
                 .collect(),
             Err(e) => {
-                eprintln!("trigbody: warning: {name}: {e}");
+                crate::exit::diag(format_args!("trigbody: warning: {name}: {e}"));
                 Vec::new()
             }
         }

@@ -39,3 +39,11 @@ pub fn print(text: &str) -> anyhow::Result<()> {
         Err(e) => Err(anyhow::Error::new(e).context("writing to standard output")),
     }
 }
+
+/// Writes a diagnostic line to standard error. A stderr that cannot be
+/// written (closed, full) must not stop the work: the line is dropped and
+/// the exit code still tells the outcome.
+pub fn diag(line: fmt::Arguments<'_>) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{line}");
+}

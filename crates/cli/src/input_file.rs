@@ -12,7 +12,7 @@ use trigbody_io::{Geometry, ReadOptions};
 pub fn read_geometry(path: &Path, read: &ReadOptions) -> Result<Geometry> {
     let (geometry, notes) = trigbody_io::read_geometry_noted(path, read).map_err(bad)?;
     if let Some(w) = notes.warning() {
-        eprintln!("trigbody: warning: {}: {w}", path.display());
+        crate::exit::diag(format_args!("trigbody: warning: {}: {w}", path.display()));
     }
     Ok(geometry)
 }

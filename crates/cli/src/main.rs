@@ -117,7 +117,7 @@ where
     match result {
         Ok(()) => 0,
         Err(e) => {
-            eprintln!("trigbody: error: {e:#}");
+            crate::exit::diag(format_args!("trigbody: error: {e:#}"));
             exit::code_of(&e)
         }
     }

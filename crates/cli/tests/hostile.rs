@@ -928,6 +928,55 @@ fn a_scan_merged_with_a_jittered_copy_is_the_same_body() {
 #[test]
 fn a_mesh_without_its_left_arm_keeps_its_head() {
     let d = scratch("armless");
+    let armless = armless_body(&d);
+    case(
+        &d,
+        &["reconstruct", &armless, "-o", "m.json"],
+        0,
+        "closed 1 hole(s) in the mesh",
+    );
+    let m: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("m.json")).unwrap()).unwrap();
+    let head = m["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "head")
+        .expect("a head");
+    let start = head["sections"][0]["frame"]["origin"][1].as_f64().unwrap();
+    let dome = head["caps"]["end"]["relative_height"].as_f64().unwrap();
+    assert!(start > 0.6, "the head starts at {start} m");
+    assert!(dome < 1.0, "a dome of {dome} radii");
+}
+
+/// A standard error that cannot be written (full, as /dev/full is) does not
+/// stop the work: the model is written and the run succeeds.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_stderr_does_not_stop_a_reconstruction() {
+    let d = scratch("fullstderr");
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .expect("/dev/full");
+    // The armless body warns (a hole closed, an arm missing).
+    let armless = armless_body(&d);
+    let status = Command::new(BIN)
+        .current_dir(&d)
+        .args(["reconstruct", &armless, "-o", "m.json"])
+        .stdout(std::process::Stdio::null())
+        .stderr(full)
+        .status()
+        .unwrap();
+    assert_eq!(status.code(), Some(0));
+    let m: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("m.json")).unwrap()).unwrap();
+    assert!(m["parts"].as_array().is_some_and(|p| !p.is_empty()));
+}
+
+/// The built-in body with its left arm deleted (faces with a corner at
+/// x > 0.22 m above y = 0), written to `armless.obj` in `d`.
+fn armless_body(d: &Path) -> String {
     let body = std::fs::read_to_string(BODY).unwrap();
     let v: Vec<[f64; 3]> = body
         .lines()
@@ -949,23 +998,5 @@ fn a_mesh_without_its_left_arm_keeps_its_head() {
         .filter(|l| !(l.starts_with("f ") && on_arm(l)))
         .map(|l| format!("{l}\n"))
         .collect();
-    let armless = write(&d, "armless.obj", &text);
-    case(
-        &d,
-        &["reconstruct", &armless, "-o", "m.json"],
-        0,
-        "closed 1 hole(s) in the mesh",
-    );
-    let m: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(d.join("m.json")).unwrap()).unwrap();
-    let head = m["parts"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|p| p["name"] == "head")
-        .expect("a head");
-    let start = head["sections"][0]["frame"]["origin"][1].as_f64().unwrap();
-    let dome = head["caps"]["end"]["relative_height"].as_f64().unwrap();
-    assert!(start > 0.6, "the head starts at {start} m");
-    assert!(dome < 1.0, "a dome of {dome} radii");
+    write(d, "armless.obj", &text)
 }

@@ -18,7 +18,7 @@
 //! body's own ankle joint to the hip's height. The shoulder lies on the
 //! upper arm's line where the shoulder's bones put it
 //! ([`shoulder_joint`]); the hip on the thigh's axis line continued up
-//! to 0.04 `H` above the crotch.
+//! to 0.04 `H` above the crotch, in the trunk's coronal plane.
 
 use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};
 use crate::geom::linalg::symmetric_eigen3;
@@ -183,21 +183,21 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
             .as_ref()
             .and_then(|s| ankle_joint(s, seg, axis, narrowest, along_foot))
             .unwrap_or(narrowest);
-        // The thigh's axis below the crotch (where the legs' loops are
-        // apart), continued up to the hip joint's height.
-        let (Some(p1), Some(p2), Some(crotch)) = (
-            point_at_arc(axis, 0.06 * h),
-            point_at_arc(axis, 0.16 * h),
-            lm(L::Crotch),
-        ) else {
+        // The thigh's axis line below the crotch (where the legs' loops
+        // are apart), continued up to the hip joint's height, in the
+        // trunk's coronal plane ([`in_coronal_plane`]).
+        let (Some((p1, along, _)), Some(crotch)) =
+            (axis_line(axis, 0.06 * h, 0.16 * h), lm(L::Crotch))
+        else {
             continue;
         };
         let up = seg.frame.up;
-        let Some(dir) = (p1 - p2).normalized().filter(|d| d.dot(up) > 0.1) else {
+        let dir = -along;
+        if dir.dot(up) <= 0.1 {
             continue;
-        };
+        }
         let rise = (crotch.dot(up) + HIP_ABOVE_CROTCH * h - p1.dot(up)) / dir.dot(up);
-        out.push((names[0], p1 + dir * rise));
+        out.push((names[0], in_coronal_plane(seg, p1 + dir * rise)));
         // The ankle joint lies on the shank's line below the axis's end.
         let ankle_at = arc_of_nearest(axis, narrowest) + narrowest.distance(ankle);
         // A bent knee where the thigh's and the shank's lines cross; a
@@ -248,6 +248,23 @@ fn shoulder_joint(seg: &Segmentation, axis: &PartAxis, outward: Vec3) -> Option<
     let mid = *nearest + up * (level - nearest.dot(up));
     let socket = mid + outward * (0.5 * BIACROMIAL * h - r);
     Some(on_line + dir * (socket - on_line).dot(dir))
+}
+
+/// `p` moved along the body's front onto the coronal plane through the
+/// trunk's axis at its height: the acetabula lie about mid-depth in the
+/// pelvis, wherever the thighs point. `p` itself without a trunk.
+fn in_coronal_plane(seg: &Segmentation, p: Point3) -> Point3 {
+    let (up, front) = (seg.frame.up, seg.frame.front);
+    let level = p.dot(up);
+    seg.part(PartName::Torso)
+        .and_then(|t| {
+            t.points.iter().min_by(|a, b| {
+                (a.dot(up) - level)
+                    .abs()
+                    .total_cmp(&(b.dot(up) - level).abs())
+            })
+        })
+        .map_or(p, |c| p + front * (*c - p).dot(front))
 }
 
 /// The straight line through the axis points at arc lengths `from..=to`
@@ -566,6 +583,10 @@ mod tests {
         );
         let s = shoulder_joint(&seg, &hanging, seg.frame.left).unwrap();
         assert!(s.distance(Vec3::new(x, 0.0, level)) < 1e-9, "{s:?}");
+        // A hip in front of the trunk's axis moves back onto its plane,
+        // keeping its height and side.
+        let hip = in_coronal_plane(&seg, Vec3::new(0.1, -0.07, 0.95));
+        assert!(hip.distance(Vec3::new(0.1, 0.0, 0.95)) < 1e-12, "{hip:?}");
     }
 
     #[test]

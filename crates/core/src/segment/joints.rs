@@ -94,6 +94,10 @@ const HIP_HEIGHT: Real = 0.530;
 /// joint at its far end: the middle of a segment, clear of both joints.
 const LINE_FROM: Real = 0.02;
 const LINE_TO: Real = 0.10;
+/// The span of the leg's axis below the crotch (fractions of the
+/// stature) whose line is continued up to the hip: the thigh's lower
+/// half, clear of the knee about 0.25 `H` down.
+const THIGH_LINE: (Real, Real) = (0.10, 0.18);
 /// The smallest bend (degrees) whose corner is located.
 const MIN_BEND: Real = 25.0;
 /// A horizontal section this many times longer along the foot than the
@@ -183,12 +187,14 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
             .as_ref()
             .and_then(|s| ankle_joint(s, seg, axis, narrowest, along_foot))
             .unwrap_or(narrowest);
-        // The thigh's axis line below the crotch (where the legs' loops
-        // are apart), continued up to the hip joint's height, in the
+        // The thigh's axis line over its lower half below the crotch
+        // (where the legs' loops are apart and the inner thighs and the
+        // buttock's fold no longer pull their centroids), continued up to the hip joint's height, in the
         // trunk's coronal plane ([`in_coronal_plane`]).
-        let (Some((p1, along, _)), Some(crotch)) =
-            (axis_line(axis, 0.06 * h, 0.16 * h), lm(L::Crotch))
-        else {
+        let (Some((p1, along, _)), Some(crotch)) = (
+            axis_line(axis, THIGH_LINE.0 * h, THIGH_LINE.1 * h),
+            lm(L::Crotch),
+        ) else {
             continue;
         };
         let up = seg.frame.up;

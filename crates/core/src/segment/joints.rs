@@ -2,21 +2,26 @@
 //! shoulders, elbows, wrists, hips, knees and ankles lie inside the body.
 //!
 //! Wrists are the segmentation's own landmarks (the centres of the
-//! narrowest cuts across the forearm), the shoulder the start of the arm's
-//! axis (where its cuts merge with the trunk). The narrowest cut of the
-//! leg lies above the malleoli; the ankle joint is lower, where the foot
-//! begins: walking down the shank's line from that cut in horizontal
-//! sections, the first whose length along the foot exceeds the shank's
-//! by [`FOOT_BEGINS`] ([`ankle_joint`]). Elbow, hip and knee have no
-//! girth minimum to find; they are placed on the limbs' axes by the
-//! segment lengths of the standard anthropometric tables (Drillis and
-//! Contini 1966, as fractions of the stature `H`): upper arm 0.186, forearm
-//! 0.146, thigh 0.245, shank 0.246, and the hip joint 0.04 `H` above the
-//! crotch (trochanter 0.53 `H`, crotch about 0.48 `H`) on the line of the
-//! thigh's axis. Arc length along the axis follows a bent
-//! limb, so the estimates do not assume a pose.
+//! narrowest cuts across the forearm). The narrowest cut of the leg lies
+//! above the malleoli; the ankle joint is lower, where the foot begins:
+//! walking down the shank's line from that cut in horizontal sections,
+//! the first whose length along the foot exceeds the shank's by
+//! [`FOOT_BEGINS`] ([`ankle_joint`]). A bent elbow or knee is where the
+//! straight lines of its two segments cross ([`bend_corner`]): the
+//! axis's smoothing cuts the corner, the lines do not. A straight limb
+//! has no corner to find; its joint is placed by the segment lengths of
+//! the standard anthropometric tables (Drillis and Contini 1966, as
+//! fractions of the stature `H`: upper arm 0.186, forearm 0.146, thigh
+//! 0.245, shank 0.246; acromion height 0.818 and biacromial breadth
+//! 0.259; trochanter height 0.530): the elbow by arc length along the
+//! arm's axis, the knee at the shank's share of the rise from the
+//! body's own ankle joint to the hip's height. The shoulder lies on the
+//! upper arm's line where the shoulder's bones put it
+//! ([`shoulder_joint`]); the hip on the thigh's axis line continued up
+//! to 0.04 `H` above the crotch, in the trunk's coronal plane.
 
 use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};
+use crate::geom::linalg::symmetric_eigen3;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::stats::median;
 use crate::section::cloud::{CloudSlicer, ScanSectionOptions};
@@ -74,6 +79,27 @@ const THIGH: Real = 0.245;
 const SHANK: Real = 0.246;
 /// Hip joint centre above the crotch, as a fraction of the stature.
 const HIP_ABOVE_CROTCH: Real = 0.04;
+/// Acromion height above the soles and biacromial breadth, as fractions
+/// of the stature.
+const ACROMION_HEIGHT: Real = 0.818;
+const BIACROMIAL: Real = 0.259;
+/// The upper arm's line is fitted over this much of the arm's axis from
+/// its start, as a fraction of the stature (less than the upper arm).
+const UPPER_ARM_LINE: Real = 0.08;
+/// Greater trochanter (hip joint) height above the soles, as a fraction of
+/// the stature.
+const HIP_HEIGHT: Real = 0.530;
+/// A limb segment's straight line is fitted over its axis from
+/// `LINE_FROM` to `LINE_TO` (fractions of the stature) away from the
+/// joint at its far end: the middle of a segment, clear of both joints.
+const LINE_FROM: Real = 0.02;
+const LINE_TO: Real = 0.10;
+/// The span of the leg's axis below the crotch (fractions of the
+/// stature) whose line is continued up to the hip: the thigh's lower
+/// half, clear of the knee about 0.25 `H` down.
+const THIGH_LINE: (Real, Real) = (0.10, 0.18);
+/// The smallest bend (degrees) whose corner is located.
+const MIN_BEND: Real = 25.0;
 /// A horizontal section this many times longer along the foot than the
 /// shank's has reached the foot (the ankle joint's level).
 const FOOT_BEGINS: Real = 1.25;
@@ -112,13 +138,24 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
         else {
             continue;
         };
-        // The humeral head lies about an arm radius inside the shoulder
-        // from where the arm's cuts stop being separate.
-        let r = axis.radii.first().copied().unwrap_or(0.0);
-        out.push((names[0], start - tangent * r));
+        let outward = if part == PartName::LeftArm {
+            seg.frame.left
+        } else {
+            -seg.frame.left
+        };
+        // Without a torso: the humeral head about an arm radius inside
+        // the shoulder from where the arm's cuts stop being separate.
+        let shoulder = shoulder_joint(seg, axis, outward)
+            .unwrap_or_else(|| start - tangent * axis.radii.first().copied().unwrap_or(0.0));
+        out.push((names[0], shoulder));
         let wrist_at = arc_of_nearest(axis, wrist);
+        let corner = bend_corner(
+            axis,
+            (LINE_FROM * h, LINE_TO * h),
+            (wrist_at - LINE_TO * h, wrist_at - LINE_FROM * h),
+        );
         let t = wrist_at * UPPER_ARM / (UPPER_ARM + FOREARM);
-        if let Some(e) = point_at_arc(axis, t) {
+        if let Some(e) = corner.or_else(|| point_at_arc(axis, t)) {
             out.push((names[1], e));
         }
         out.push((names[2], wrist));
@@ -150,34 +187,128 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
             .as_ref()
             .and_then(|s| ankle_joint(s, seg, axis, narrowest, along_foot))
             .unwrap_or(narrowest);
-        // The thigh's axis below the crotch (where the legs' loops are
-        // apart), continued up to the hip joint's height.
-        let (Some(p1), Some(p2), Some(crotch)) = (
-            point_at_arc(axis, 0.06 * h),
-            point_at_arc(axis, 0.16 * h),
+        // The thigh's axis line over its lower half below the crotch
+        // (where the legs' loops are apart and the inner thighs and the
+        // buttock's fold no longer pull their centroids), continued up to the hip joint's height, in the
+        // trunk's coronal plane ([`in_coronal_plane`]).
+        let (Some((p1, along, _)), Some(crotch)) = (
+            axis_line(axis, THIGH_LINE.0 * h, THIGH_LINE.1 * h),
             lm(L::Crotch),
         ) else {
             continue;
         };
         let up = seg.frame.up;
-        let Some(dir) = (p1 - p2).normalized().filter(|d| d.dot(up) > 0.1) else {
+        let dir = -along;
+        if dir.dot(up) <= 0.1 {
             continue;
-        };
+        }
         let rise = (crotch.dot(up) + HIP_ABOVE_CROTCH * h - p1.dot(up)) / dir.dot(up);
-        out.push((names[0], p1 + dir * rise));
+        out.push((names[0], in_coronal_plane(seg, p1 + dir * rise)));
         // The ankle joint lies on the shank's line below the axis's end.
         let ankle_at = arc_of_nearest(axis, narrowest) + narrowest.distance(ankle);
+        // A bent knee where the thigh's and the shank's lines cross; a
+        // straight one where the shank's share of the rise from the ankle
+        // to the hip's standard height is reached along the axis.
+        let corner = bend_corner(
+            axis,
+            (0.06 * h, 0.16 * h),
+            (ankle_at - LINE_TO * h, ankle_at - LINE_FROM * h),
+        );
+        let hip_level = seg.frame.origin.dot(up) + HIP_HEIGHT * h;
+        let level = ankle.dot(up) + (hip_level - ankle.dot(up)) * SHANK / (THIGH + SHANK);
+        let knee = corner.or_else(|| point_at_level(axis, up, level));
         // Hip to knee is THIGH of THIGH + SHANK; the axis starts
         // HIP_ABOVE_CROTCH below the hip.
         let total = ankle_at + HIP_ABOVE_CROTCH * h;
         let t = (total * THIGH / (THIGH + SHANK) - HIP_ABOVE_CROTCH * h).max(0.0);
-        if let Some(k) = point_at_arc(axis, t) {
+        if let Some(k) = knee.or_else(|| point_at_arc(axis, t)) {
             out.push((names[1], k));
         }
         out.push((names[2], ankle));
     }
     out.sort_by_key(|(n, _)| *n);
     out
+}
+
+/// The shoulder joint (the humeral head's centre) on the line of the
+/// upper arm (the arm's axis over its first [`UPPER_ARM_LINE`] `H`),
+/// nearest to where the shoulder's bones put it: one arm radius `r`
+/// below the acromion's height and one `r` inside its half breadth
+/// from the trunk's axis (the humeral head about as wide as the arm),
+/// with the acromion at [`ACROMION_HEIGHT`] `H` above the soles and
+/// [`BIACROMIAL`] `H` across (Drillis and Contini 1966). The line
+/// follows the arm in any pose; the bones only say where along it.
+/// `outward` is the body's side of this arm. `None` without a trunk or
+/// an upper arm to fit.
+fn shoulder_joint(seg: &Segmentation, axis: &PartAxis, outward: Vec3) -> Option<Point3> {
+    let (up, h) = (seg.frame.up, seg.height);
+    let (on_line, dir, r) = axis_line(axis, 0.0, UPPER_ARM_LINE * h)?;
+    let torso = seg.part(PartName::Torso)?;
+    let floor = seg.frame.origin.dot(up);
+    let level = floor + ACROMION_HEIGHT * h - r;
+    let nearest = torso.points.iter().min_by(|a, b| {
+        (a.dot(up) - level)
+            .abs()
+            .total_cmp(&(b.dot(up) - level).abs())
+    })?;
+    let mid = *nearest + up * (level - nearest.dot(up));
+    let socket = mid + outward * (0.5 * BIACROMIAL * h - r);
+    Some(on_line + dir * (socket - on_line).dot(dir))
+}
+
+/// `p` moved along the body's front onto the coronal plane through the
+/// trunk's axis at its height: the acetabula lie about mid-depth in the
+/// pelvis, wherever the thighs point. `p` itself without a trunk.
+fn in_coronal_plane(seg: &Segmentation, p: Point3) -> Point3 {
+    let (up, front) = (seg.frame.up, seg.frame.front);
+    let level = p.dot(up);
+    seg.part(PartName::Torso)
+        .and_then(|t| {
+            t.points.iter().min_by(|a, b| {
+                (a.dot(up) - level)
+                    .abs()
+                    .total_cmp(&(b.dot(up) - level).abs())
+            })
+        })
+        .map_or(p, |c| p + front * (*c - p).dot(front))
+}
+
+/// The straight line through the axis points at arc lengths `from..=to`
+/// (their centroid and principal direction, pointing along the axis)
+/// and the median radius there. `None` for fewer than three points.
+fn axis_line(axis: &PartAxis, from: Real, to: Real) -> Option<(Point3, Vec3, Real)> {
+    let mut acc = 0.0;
+    let mut picked = Vec::new();
+    let mut radii = Vec::new();
+    for (i, p) in axis.points.iter().enumerate() {
+        if i > 0 {
+            acc += p.distance(axis.points[i - 1]);
+        }
+        if (from..=to).contains(&acc) {
+            picked.push(*p);
+            radii.extend(axis.radii.get(i).copied());
+        }
+    }
+    if picked.len() < 3 {
+        return None;
+    }
+    let c = picked.iter().fold(Vec3::ZERO, |s, p| s + *p) / picked.len() as Real;
+    let mut m = [[0.0; 3]; 3];
+    for p in &picked {
+        let d = *p - c;
+        let d = [d.x, d.y, d.z];
+        for (j, row) in m.iter_mut().enumerate() {
+            for (k, v) in row.iter_mut().enumerate() {
+                *v += d[j] * d[k];
+            }
+        }
+    }
+    let (_, vectors) = symmetric_eigen3(m);
+    let mut dir = vectors[0].normalized()?;
+    if dir.dot(picked[picked.len() - 1] - picked[0]) < 0.0 {
+        dir = -dir;
+    }
+    Some((c, dir, median(&mut radii).unwrap_or(0.0)))
 }
 
 /// Horizontal sections of the input.
@@ -274,6 +405,37 @@ fn ankle_joint(
     None
 }
 
+/// Where a bent limb's two segments meet: the crossing (the midpoint of
+/// the closest approach) of the straight lines through its axis at arc
+/// lengths `upper` and `lower`, when they bend by at least [`MIN_BEND`]
+/// and pass within the limb's radius of each other. A corner cut by the
+/// axis's smoothing is restored; a straighter limb has no well-posed
+/// crossing (it moves by `r / tan θ` for an `r` of noise), so `None`.
+fn bend_corner(axis: &PartAxis, upper: (Real, Real), lower: (Real, Real)) -> Option<Point3> {
+    let (p1, d1, r1) = axis_line(axis, upper.0, upper.1)?;
+    let (p2, d2, _) = axis_line(axis, lower.0, lower.1)?;
+    let cos = d1.dot(d2);
+    if cos > MIN_BEND.to_radians().cos() {
+        return None;
+    }
+    // Closest points p1 + d1 s, p2 + d2 t of the two lines (unit d1, d2).
+    let w = p1 - p2;
+    let den = 1.0 - cos * cos;
+    let s = (cos * d2.dot(w) - d1.dot(w)) / den;
+    let t = (d2.dot(w) - cos * d1.dot(w)) / den;
+    let (a, b) = (p1 + d1 * s, p2 + d2 * t);
+    (a.distance(b) <= r1).then_some((a + b) * 0.5)
+}
+
+/// The point of `axis` at height `level` along `up`: the crossing
+/// nearest the axis's distal end. `None` when the axis does not reach it.
+fn point_at_level(axis: &PartAxis, up: Vec3, level: Real) -> Option<Point3> {
+    axis.points.windows(2).rev().find_map(|w| {
+        let (a, b) = (w[0].dot(up) - level, w[1].dot(up) - level);
+        (a * b <= 0.0 && a != b).then(|| w[0] + (w[1] - w[0]) * (a / (a - b)))
+    })
+}
+
 /// The arc length along `axis` of its point nearest to `p`.
 fn arc_of_nearest(axis: &PartAxis, p: Point3) -> Real {
     let (mut best, mut best_at, mut acc) = (Real::INFINITY, 0.0, 0.0);
@@ -317,6 +479,120 @@ mod tests {
             start: LandmarkKind::LeftShoulder,
             end: LandmarkKind::LeftHandTip,
         }
+    }
+
+    /// An axis along `a` to `corner`, then along `b`, sampled every
+    /// `step`, its corner cut by a chord between the points `cut` away.
+    fn bent(corner: Point3, a: Vec3, b: Vec3, cut: Real, step: Real) -> PartAxis {
+        let n = (1.0 / step) as usize;
+        let mut points: Vec<Point3> = (0..=n)
+            .map(|i| corner - a * (1.0 - i as Real * step))
+            .filter(|p| p.distance(corner) >= cut)
+            .collect();
+        points.extend(
+            (1..=n)
+                .map(|i| corner + b * (i as Real * step))
+                .filter(|p| p.distance(corner) >= cut),
+        );
+        axis(points)
+    }
+
+    #[test]
+    fn a_bent_limb_s_cut_corner_is_restored() {
+        let corner = Vec3::new(0.3, -0.2, 1.1);
+        let a = Vec3::new(1.0, 0.0, 0.0);
+        for deg in [30.0_f64, 60.0, 90.0, 120.0] {
+            let (s, c) = deg.to_radians().sin_cos();
+            let b = Vec3::new(c, s * 0.6, s * 0.8);
+            let limb = bent(corner, a, b, 0.1, 0.01);
+            let k = bend_corner(&limb, (0.1, 0.6), (1.2, 1.7)).unwrap();
+            assert!(k.distance(corner) < 1e-9, "{deg}: {k:?}");
+        }
+    }
+
+    #[test]
+    fn a_straight_or_skew_limb_has_no_corner() {
+        let corner = Vec3::new(0.0, 0.0, 1.0);
+        let a = Vec3::new(0.0, 0.0, -1.0);
+        let (s, c) = 10.0_f64.to_radians().sin_cos();
+        let slight = bent(corner, a, Vec3::new(s, 0.0, -c), 0.0, 0.01);
+        assert!(bend_corner(&slight, (0.1, 0.6), (1.2, 1.7)).is_none());
+        // Two lines bent by 90° but passing 0.5 apart (radius 0.04).
+        let mut points: Vec<Point3> = (0..=50)
+            .map(|i| Vec3::new(i as Real * 0.02, 0.0, 0.0))
+            .collect();
+        points.extend((1..=50).map(|i| Vec3::new(1.0, i as Real * 0.02, 0.5)));
+        assert!(bend_corner(&axis(points), (0.1, 0.6), (1.5, 2.0)).is_none());
+    }
+
+    #[test]
+    fn the_level_is_found_along_a_slanted_axis() {
+        let a = axis(vec![
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(0.2, 0.0, 0.5),
+            Vec3::new(0.2, 0.1, 0.0),
+        ]);
+        let up = Vec3::new(0.0, 0.0, 1.0);
+        let p = point_at_level(&a, up, 0.75).unwrap();
+        assert!(p.distance(Vec3::new(0.1, 0.0, 0.75)) < 1e-12, "{p:?}");
+        let p = point_at_level(&a, up, 0.25).unwrap();
+        assert!(p.distance(Vec3::new(0.2, 0.05, 0.25)) < 1e-12, "{p:?}");
+        assert!(point_at_level(&a, up, 1.5).is_none());
+    }
+
+    #[test]
+    fn a_held_out_arm_s_shoulder_is_the_socket_on_its_line() {
+        let h = 1.8;
+        let r = 0.04;
+        let level = ACROMION_HEIGHT * h - r;
+        let seg = Segmentation {
+            frame: crate::anatomy::BodyFrame {
+                up: Vec3::new(0.0, 0.0, 1.0),
+                front: Vec3::new(0.0, -1.0, 0.0),
+                left: Vec3::new(1.0, 0.0, 0.0),
+                origin: Point3::new(0.0, 0.0, 0.0),
+            },
+            height: h,
+            slice_spacing: 0.005,
+            point_spacing: None,
+            landmarks: Vec::new(),
+            parts: vec![PartAxis {
+                name: PartName::Torso,
+                points: (0..=20)
+                    .map(|i| Vec3::new(0.0, 0.0, 0.9 + 0.025 * i as Real))
+                    .collect(),
+                radii: vec![0.15; 21],
+                start: LandmarkKind::Crotch,
+                end: LandmarkKind::Neck,
+            }],
+            warnings: Vec::new(),
+            sorted_up: Default::default(),
+        };
+        // An arm held out level, 2 cm in front of the trunk's plane and
+        // starting inside the trunk: the joint is on its line, at the
+        // socket's lateral offset.
+        let arm = axis(
+            (0..=60)
+                .map(|i| Vec3::new(0.05 + 0.01 * i as Real, -0.02, level + 0.03))
+                .collect(),
+        );
+        let s = shoulder_joint(&seg, &arm, seg.frame.left).unwrap();
+        let want = Vec3::new(0.5 * BIACROMIAL * h - r, -0.02, level + 0.03);
+        assert!(s.distance(want) < 1e-9, "{s:?} {want:?}");
+        // The same arm hanging down through the socket's side: on its
+        // line at the socket's height.
+        let x = 0.5 * BIACROMIAL * h - r + 0.01;
+        let hanging = axis(
+            (0..=60)
+                .map(|i| Vec3::new(x, 0.0, level + 0.1 - 0.01 * i as Real))
+                .collect(),
+        );
+        let s = shoulder_joint(&seg, &hanging, seg.frame.left).unwrap();
+        assert!(s.distance(Vec3::new(x, 0.0, level)) < 1e-9, "{s:?}");
+        // A hip in front of the trunk's axis moves back onto its plane,
+        // keeping its height and side.
+        let hip = in_coronal_plane(&seg, Vec3::new(0.1, -0.07, 0.95));
+        assert!(hip.distance(Vec3::new(0.1, 0.0, 0.95)) < 1e-12, "{hip:?}");
     }
 
     #[test]

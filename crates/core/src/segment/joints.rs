@@ -189,8 +189,9 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
             .unwrap_or(narrowest);
         // The thigh's axis line over its lower half below the crotch
         // (where the legs' loops are apart and the inner thighs and the
-        // buttock's fold no longer pull their centroids), continued up to the hip joint's height, in the
-        // trunk's coronal plane ([`in_coronal_plane`]).
+        // buttock's fold no longer pull their centroids), continued up to
+        // the hip joint's height, in the trunk's coronal plane
+        // ([`in_coronal_plane`]).
         let (Some((p1, along, _)), Some(crotch)) = (
             axis_line(axis, THIGH_LINE.0 * h, THIGH_LINE.1 * h),
             lm(L::Crotch),

@@ -483,10 +483,6 @@ pub fn reconstruct_with_progress(
         BodyGeometry::Mesh(_) => None,
     };
     // A mesh's holes are closed: sections through them are open chains.
-    let original_vertices = match body {
-        BodyGeometry::Mesh(mesh) => mesh.positions.len(),
-        BodyGeometry::Cloud(cloud) => cloud.positions.len(),
-    };
     let closed = match body {
         BodyGeometry::Mesh(mesh) => close_holes(mesh),
         BodyGeometry::Cloud(_) => None,
@@ -503,9 +499,9 @@ pub fn reconstruct_with_progress(
     let mut result = reconstruct_steps(body, &opts, &mut progress);
     if let Ok((_, report)) = &mut result {
         let mut w = cleaned.as_ref().map(|c| c.1.warnings()).unwrap_or_default();
-        if let Some((mesh, holes)) = &closed {
-            // The user's vertices, not the fans' centres.
-            report.input_vertices -= mesh.positions.len() - original_vertices;
+        if let Some((_, holes)) = &closed {
+            // The user's vertices, not the fans' centres (one per hole).
+            report.input_vertices -= holes.holes;
             w.push(format!(
                 "closed {} hole(s) in the mesh ({:.0} mm of rim, {:.2} % of its area added); the model and its distances use the closed mesh",
                 holes.holes,

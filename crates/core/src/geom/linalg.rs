@@ -2,7 +2,7 @@
 //! row-major `Vec<Real>` matrices. Sizes here are tiny (a (2J+1)² Gram matrix,
 //! a K×K skinning system), so plain loops beat a general library.
 
-use crate::geom::math::{Real, Vec3};
+use crate::geom::math::{Point3, Real, Vec3};
 
 /// A lower-triangular Cholesky factor `L` of a symmetric positive definite
 /// matrix `A = L Lᵀ`, stored row-major `n × n`.
@@ -166,6 +166,23 @@ impl Lu {
         }
         inv
     }
+}
+
+/// The centroid of `pts` (not empty) and the eigenvalues (descending) and
+/// unit eigenvectors of their scatter matrix: principal components.
+pub fn principal(pts: &[Point3]) -> (Point3, [Real; 3], [Vec3; 3]) {
+    let c = pts.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / pts.len() as Real);
+    let mut m = [[0.0; 3]; 3];
+    for p in pts {
+        let d = (*p - c).to_array();
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] += d[i] * d[j];
+            }
+        }
+    }
+    let (vals, vecs) = symmetric_eigen3(m);
+    (c, vals, vecs)
 }
 
 /// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations:

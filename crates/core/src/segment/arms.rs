@@ -524,10 +524,9 @@ fn join_arms(
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap_or((0, Real::INFINITY))
     };
-    let Some(last_on) = splice_point(&lateral.axis, near_surface, extent) else {
+    let Some((last_on, j)) = splice_point(&lateral.axis, near_surface, extent) else {
         return lateral;
     };
-    let (j, _) = near_surface(lateral.axis[last_on].0);
     let mut axis = lateral.axis[..=last_on].to_vec();
     axis.extend_from_slice(&surface.axis[j + 1..]);
     LateralArm {
@@ -539,7 +538,7 @@ fn join_arms(
 }
 
 /// Where a sliced arm's `axis` (shoulder first) hands over to the surface
-/// arm: the last of its points on the surface arm's axis (`near` gives
+/// arm, and the surface arm's ring nearest there: the last of its points on the surface arm's axis (`near` gives
 /// the nearest ring and its distance: within the point's radius or
 /// AXES_MEET × H) that a cut across the arm gave. Where the arm turns more
 /// than 60° from the slices' normal they cut it lengthwise and their
@@ -550,7 +549,7 @@ fn splice_point(
     axis: &[(Point3, Real)],
     near: impl Fn(Point3) -> (usize, Real),
     extent: Real,
-) -> Option<usize> {
+) -> Option<(usize, usize)> {
     let steps: Vec<Real> = axis.windows(2).map(|w| w[0].0.distance(w[1].0)).collect();
     let typical = median(&mut steps.clone())?;
     let mut ahead = 0;
@@ -565,7 +564,7 @@ fn splice_point(
         }
         ahead = ahead.max(j);
         if i == 0 || steps[i - 1] <= 2.0 * typical {
-            last = Some(i);
+            last = Some((i, j));
         }
     }
     last
@@ -937,13 +936,13 @@ mod tests {
                 .skip(1),
         );
         // A ring back is noise; two rings back is the turn.
-        assert_eq!(splice_point(&axis, near, 1.7), Some(11));
+        assert_eq!(splice_point(&axis, near, 1.7).map(|s| s.0), Some(11));
         // One stray centroid is not a place to join, nor a reason to stop.
         let mut axis = line(SHOULDER, ELBOW, 30);
         axis[20].0.y += 0.05;
-        assert_eq!(splice_point(&axis, near, 1.7), Some(30));
+        assert_eq!(splice_point(&axis, near, 1.7).map(|s| s.0), Some(30));
         axis[30].0.y += 0.05;
-        assert_eq!(splice_point(&axis, near, 1.7), Some(29));
+        assert_eq!(splice_point(&axis, near, 1.7).map(|s| s.0), Some(29));
     }
 
     #[test]

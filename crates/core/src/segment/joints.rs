@@ -21,7 +21,7 @@
 //! to 0.04 `H` above the crotch, in the trunk's coronal plane.
 
 use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};
-use crate::geom::linalg::symmetric_eigen3;
+use crate::geom::linalg::principal;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::stats::median;
 use crate::section::cloud::{CloudSlicer, ScanSectionOptions};
@@ -244,15 +244,9 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
 fn shoulder_joint(seg: &Segmentation, axis: &PartAxis, outward: Vec3) -> Option<Point3> {
     let (up, h) = (seg.frame.up, seg.height);
     let (on_line, dir, r) = axis_line(axis, 0.0, UPPER_ARM_LINE * h)?;
-    let torso = seg.part(PartName::Torso)?;
-    let floor = seg.frame.origin.dot(up);
-    let level = floor + ACROMION_HEIGHT * h - r;
-    let nearest = torso.points.iter().min_by(|a, b| {
-        (a.dot(up) - level)
-            .abs()
-            .total_cmp(&(b.dot(up) - level).abs())
-    })?;
-    let mid = *nearest + up * (level - nearest.dot(up));
+    let level = seg.frame.origin.dot(up) + ACROMION_HEIGHT * h - r;
+    let nearest = trunk_at_level(seg, level)?;
+    let mid = nearest + up * (level - nearest.dot(up));
     let socket = mid + outward * (0.5 * BIACROMIAL * h - r);
     Some(on_line + dir * (socket - on_line).dot(dir))
 }
@@ -261,17 +255,24 @@ fn shoulder_joint(seg: &Segmentation, axis: &PartAxis, outward: Vec3) -> Option<
 /// trunk's axis at its height: the acetabula lie about mid-depth in the
 /// pelvis, wherever the thighs point. `p` itself without a trunk.
 fn in_coronal_plane(seg: &Segmentation, p: Point3) -> Point3 {
-    let (up, front) = (seg.frame.up, seg.frame.front);
-    let level = p.dot(up);
-    seg.part(PartName::Torso)
-        .and_then(|t| {
-            t.points.iter().min_by(|a, b| {
-                (a.dot(up) - level)
-                    .abs()
-                    .total_cmp(&(b.dot(up) - level).abs())
-            })
+    let front = seg.frame.front;
+    trunk_at_level(seg, p.dot(seg.frame.up)).map_or(p, |c| p + front * (c - p).dot(front))
+}
+
+/// The trunk's axis point nearest in height to `level`; `None` without a
+/// trunk.
+fn trunk_at_level(seg: &Segmentation, level: Real) -> Option<Point3> {
+    let up = seg.frame.up;
+    let torso = seg.part(PartName::Torso)?;
+    torso
+        .points
+        .iter()
+        .min_by(|a, b| {
+            (a.dot(up) - level)
+                .abs()
+                .total_cmp(&(b.dot(up) - level).abs())
         })
-        .map_or(p, |c| p + front * (*c - p).dot(front))
+        .copied()
 }
 
 /// The straight line through the axis points at arc lengths `from..=to`
@@ -293,18 +294,7 @@ fn axis_line(axis: &PartAxis, from: Real, to: Real) -> Option<(Point3, Vec3, Rea
     if picked.len() < 3 {
         return None;
     }
-    let c = picked.iter().fold(Vec3::ZERO, |s, p| s + *p) / picked.len() as Real;
-    let mut m = [[0.0; 3]; 3];
-    for p in &picked {
-        let d = *p - c;
-        let d = [d.x, d.y, d.z];
-        for (j, row) in m.iter_mut().enumerate() {
-            for (k, v) in row.iter_mut().enumerate() {
-                *v += d[j] * d[k];
-            }
-        }
-    }
-    let (_, vectors) = symmetric_eigen3(m);
+    let (c, _, vectors) = principal(&picked);
     let mut dir = vectors[0].normalized()?;
     if dir.dot(picked[picked.len() - 1] - picked[0]) < 0.0 {
         dir = -dir;
@@ -546,18 +536,10 @@ mod tests {
         let h = 1.8;
         let r = 0.04;
         let level = ACROMION_HEIGHT * h - r;
-        let seg = Segmentation {
-            frame: crate::anatomy::BodyFrame {
-                up: Vec3::new(0.0, 0.0, 1.0),
-                front: Vec3::new(0.0, -1.0, 0.0),
-                left: Vec3::new(1.0, 0.0, 0.0),
-                origin: Point3::new(0.0, 0.0, 0.0),
-            },
-            height: h,
-            slice_spacing: 0.005,
-            point_spacing: None,
-            landmarks: Vec::new(),
-            parts: vec![PartAxis {
+        let seg = Segmentation::z_up(
+            h,
+            Vec::new(),
+            vec![PartAxis {
                 name: PartName::Torso,
                 points: (0..=20)
                     .map(|i| Vec3::new(0.0, 0.0, 0.9 + 0.025 * i as Real))
@@ -566,9 +548,7 @@ mod tests {
                 start: LandmarkKind::Crotch,
                 end: LandmarkKind::Neck,
             }],
-            warnings: Vec::new(),
-            sorted_up: Default::default(),
-        };
+        );
         // An arm held out level, 2 cm in front of the trunk's plane and
         // starting inside the trunk: the joint is on its line, at the
         // socket's lateral offset.

@@ -347,6 +347,29 @@ pub struct Segmentation {
     pub(crate) sorted_up: SortedUp,
 }
 
+#[cfg(test)]
+impl Segmentation {
+    /// A hand-made segmentation for tests: up +z, front −y, left +x, the
+    /// origin at 0, slices 0.005 apart.
+    pub(crate) fn z_up(height: Real, landmarks: Vec<Landmark>, parts: Vec<PartAxis>) -> Self {
+        Segmentation {
+            frame: BodyFrame {
+                up: Vec3::new(0.0, 0.0, 1.0),
+                front: Vec3::new(0.0, -1.0, 0.0),
+                left: Vec3::new(1.0, 0.0, 0.0),
+                origin: Point3::new(0.0, 0.0, 0.0),
+            },
+            height,
+            slice_spacing: 0.005,
+            point_spacing: None,
+            landmarks,
+            parts,
+            warnings: Vec::new(),
+            sorted_up: Default::default(),
+        }
+    }
+}
+
 /// A cloud's point indices sorted by height along the frame's `up` (ties
 /// by index) and those heights, as the [`Cutter`] sorts them: the
 /// segmentation sorts the cloud along its slicing axis (`±up`) anyway, so

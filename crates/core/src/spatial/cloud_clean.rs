@@ -31,7 +31,7 @@
 use rayon::slice::ParallelSliceMut;
 use std::borrow::Cow;
 
-use crate::geom::linalg::symmetric_eigen3;
+use crate::geom::linalg::principal;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{central_extent, PointCloud};
 use crate::geom::stats::median;
@@ -317,23 +317,6 @@ fn low_band(pts: &[Point3], n: Vec3, extent: Real, bin: Real) -> Option<Real> {
         .enumerate()
         .max_by_key(|&(i, c)| (*c, usize::MAX - i))?;
     Some(start + (best as Real + 0.5) * bin)
-}
-
-/// The centroid of `pts` (not empty) and the eigenvalues and eigenvectors
-/// of their scatter matrix.
-fn principal(pts: &[Point3]) -> (Point3, [Real; 3], [Vec3; 3]) {
-    let c = pts.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / pts.len() as Real);
-    let mut m = [[0.0; 3]; 3];
-    for p in pts {
-        let d = (*p - c).to_array();
-        for i in 0..3 {
-            for j in 0..3 {
-                m[i][j] += d[i] * d[j];
-            }
-        }
-    }
-    let (vals, vecs) = symmetric_eigen3(m);
-    (c, vals, vecs)
 }
 
 /// The centroid and normal of the least-squares plane through `pts`.

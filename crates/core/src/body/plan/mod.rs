@@ -561,30 +561,20 @@ mod tests {
         let p0 = Point3::new(0.2, 0.0, 1.3);
         let t0 = Vec3::new(1.0, 0.0, -1.0).normalized().unwrap();
         let wrist = p0 + t0 * 0.5;
-        let seg = Segmentation {
-            frame: crate::anatomy::BodyFrame {
-                up: Vec3::new(0.0, 0.0, 1.0),
-                front: Vec3::new(0.0, -1.0, 0.0),
-                left: Vec3::new(1.0, 0.0, 0.0),
-                origin: Point3::new(0.0, 0.0, 0.0),
-            },
-            height: h,
-            slice_spacing: 0.005,
-            point_spacing: None,
-            landmarks: vec![
+        let seg = Segmentation::z_up(
+            h,
+            vec![
                 landmark(LandmarkKind::LeftArmpit, Point3::new(0.18, 0.0, 1.27)),
                 landmark(LandmarkKind::LeftWrist, wrist),
             ],
-            parts: vec![PartAxis {
+            vec![PartAxis {
                 name: PartName::LeftArm,
                 points: (0..=50).map(|i| p0 + t0 * (0.01 * i as Real)).collect(),
                 radii: vec![0.045; 51],
                 start: LandmarkKind::LeftShoulder,
                 end: LandmarkKind::LeftHandTip,
             }],
-            warnings: Vec::new(),
-            sorted_up: Default::default(),
-        };
+        );
         let stadium = |z: Real, half: Real| {
             let points: Vec<Point3> = (0..400)
                 .map(|i| {

@@ -4,6 +4,7 @@
 
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
+use crate::geom::rigid::Rigid;
 use std::fmt;
 
 /// The geometry to segment: a surface or a cloud of scanned points.
@@ -31,6 +32,25 @@ pub struct BodyFrame {
     pub left: Vec3,
     /// The point on the floor (the soles' plane) below the crotch.
     pub origin: Point3,
+}
+
+impl BodyFrame {
+    /// The frame moved by `m`.
+    pub fn moved(&self, m: &Rigid) -> BodyFrame {
+        BodyFrame {
+            up: m.vector(self.up),
+            front: m.vector(self.front),
+            left: m.vector(self.left),
+            origin: m.point(self.origin),
+        }
+    }
+
+    /// The motion into the body's own coordinates: the origin to zero,
+    /// `left` to +x, `up` to +y, `front` to +z (`None` for a degenerate
+    /// frame).
+    pub fn into_own_axes(&self) -> Option<Rigid> {
+        Rigid::into_axes(self.origin, self.left, self.up)
+    }
 }
 
 /// The named places the segmentation finds.

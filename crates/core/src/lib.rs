@@ -21,7 +21,9 @@
 //!
 //! 1. **Input** (`geom`): a [`Mesh`] or a [`PointCloud`], seen as a
 //!    [`BodyGeometry`]. `spatial` answers distance, visibility and
-//!    nearest-point queries on it.
+//!    nearest-point queries on it. A mesh is reconstructed in the body's
+//!    own frame and vertex order (a [`Rigid`] motion there and back), so
+//!    the model does not depend on how the file turned or numbered it.
 //! 2. **Segmentation** (`segment`): the up axis, the body's frame
 //!    ([`BodyFrame`]), the landmarks and a skeleton of named parts
 //!    ([`PartName`]), from a graph of horizontal slices.
@@ -67,6 +69,7 @@ pub use curve::series::Series;
 pub use curve::trig::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use geom::math::{Point2, Point3, Real, Vec2, Vec3};
 pub use geom::mesh::{Aabb, Mesh, MeshError, PointCloud};
+pub use geom::rigid::Rigid;
 pub use measure::compare::{compare_surfaces, CompareOptions, SurfaceComparison};
 pub use measure::mesh::{
     measure_mesh, MeasureError, MeasureOptions, Measurement, MeasurementKind, Measurements,
@@ -92,7 +95,7 @@ pub mod internals {
     /// The `geom` layer.
     pub mod geom {
         pub use crate::geom::{
-            linalg, math, mesh, parallel, rng, shapes, stats, subdivide, tolerance,
+            linalg, math, mesh, parallel, rigid, rng, shapes, stats, subdivide, tolerance,
         };
     }
     /// The `spatial` layer.

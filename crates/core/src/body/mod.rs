@@ -64,13 +64,12 @@
 use crate::anatomy::{BodyFrame, BodyGeometry, LandmarkKind, PartName};
 use crate::curve::fit::{fit_loop, FitOptions, LoopFit};
 use crate::curve::trig::TrigCurve;
-use crate::geom::holes::close_holes;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
 use crate::section::cloud::scan_fit_options;
 use crate::section::mesh::SectionLoop;
 use crate::segment::{segment, Cutter, PartAxis, SegmentError, SegmentOptions, Segmentation};
-use crate::spatial::cloud_clean::{clean_cloud, CleanOptions};
+use crate::spatial::cloud_clean::CleanOptions;
 use crate::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
 use crate::spatial::point_grid::PointGrid;
 use crate::surface::cap::CapKind;
@@ -83,6 +82,7 @@ use thiserror::Error;
 
 mod cavity;
 mod plan;
+mod pose;
 pub mod rate;
 mod report;
 
@@ -235,6 +235,10 @@ pub enum ReconstructError {
     /// Segmentation failed: the message names what was not found.
     #[error("segmentation: {0}")]
     Segment(#[from] SegmentError),
+    /// The segmentation's frame is not a frame (not finite, or up and
+    /// front parallel).
+    #[error("the body's frame is degenerate: {frame:?}")]
+    Frame { frame: BodyFrame },
     /// A bad option value.
     #[error("bad option {name} = {value}: {why}")]
     BadOption {
@@ -253,6 +257,13 @@ pub enum ReconstructError {
         part: PartName,
         #[source]
         source: PartError,
+    },
+    /// A transition could not be rebuilt (moving a body).
+    #[error("transition {from} -> {to}: {why}")]
+    Transition {
+        from: PartName,
+        to: PartName,
+        why: String,
     },
     /// Tessellating a part for the measurements failed.
     #[error("{part}: {source}")]
@@ -448,20 +459,24 @@ impl Progress<'_> {
     }
 }
 
-/// Steps [`reconstruct_with_progress`] reports: segmenting, sections of
-/// six parts, skinning, refining six parts, transitions, cavities,
-/// measuring.
-const RECONSTRUCT_STEPS: usize = 17;
+/// Steps [`reconstruct_with_progress`] reports: preparing, segmenting,
+/// sections of six parts, skinning, refining six parts, transitions,
+/// cavities, measuring.
+const RECONSTRUCT_STEPS: usize = 18;
 
-/// [`reconstruct`] calling `progress` as each step starts (segmenting,
-/// each part's sections, skinning, each part's refinement, transitions,
-/// measuring) and
-/// once at the end (see [`Progress`]).
+/// [`reconstruct`] calling `progress` as each step starts (preparing the
+/// input, segmenting, each part's sections, skinning, each part's
+/// refinement, transitions, measuring) and once at the end (see
+/// [`Progress`]).
+///
+/// A mesh is reconstructed as a copy in the body's own frame and order
+/// (`body/pose.rs`); the model and the report's joints are moved back.
 pub fn reconstruct_with_progress(
     body: BodyGeometry<'_>,
     opts: &ReconstructOptions,
     report_progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<(Body, Report), ReconstructError> {
+    check_options(opts)?;
     let mut done = 0;
     let mut progress = |stage: &str| {
         report_progress(Progress {
@@ -471,55 +486,40 @@ pub fn reconstruct_with_progress(
         });
         done += 1;
     };
-    // A scan's floor and strays go first; a floor found gives `up`.
-    let cleaned = match body {
-        BodyGeometry::Cloud(cloud) => Some(clean_cloud(
-            cloud,
-            &CleanOptions {
-                up: opts.segment.up,
-                ..opts.clean
-            },
-        )),
-        BodyGeometry::Mesh(_) => None,
-    };
-    // A mesh's holes are closed: sections through them are open chains.
-    let closed = match body {
-        BodyGeometry::Mesh(mesh) => close_holes(mesh),
+    progress("preparing the input");
+    // A mesh is moved into its own frame and order; a scan stays as given
+    // (`pose` says why).
+    let own = match body {
+        BodyGeometry::Mesh(_) => Some(pose::own_pose(body, opts)?),
         BodyGeometry::Cloud(_) => None,
     };
-    let mut opts = *opts;
-    let body = match (&cleaned, &closed) {
-        (Some((cloud, cleaning)), _) => {
-            opts.segment.up = opts.segment.up.or(cleaning.floor_normal);
-            BodyGeometry::Cloud(cloud)
+    let mut own_opts = *opts;
+    if let Some((_, into)) = &own {
+        own_opts.segment.up = Some(Vec3::Y);
+        own_opts.segment.front = opts.segment.front.map(|f| into.vector(f));
+    }
+    let prepared = pose::Prepared::of(own.as_ref().map_or(body, |o| o.0.geometry()), &own_opts);
+    let own_opts = prepared.options(&own_opts);
+    let (model, mut report) = reconstruct_steps(prepared.geometry(), &own_opts, &mut progress)?;
+    let mut warnings = prepared.warnings(&mut report, opts.units);
+    warnings.append(&mut report.warnings);
+    report.warnings = warnings;
+    let model = match &own {
+        Some((_, into)) => {
+            let back = into.inverse();
+            for (_, p) in report.joints.iter_mut() {
+                *p = back.point(*p);
+            }
+            model.moved(&back)?
         }
-        (None, Some((mesh, _))) => BodyGeometry::Mesh(mesh),
-        (None, None) => body,
+        None => model,
     };
-    let mut result = reconstruct_steps(body, &opts, &mut progress);
-    if let Ok((_, report)) = &mut result {
-        let mut w = cleaned.as_ref().map(|c| c.1.warnings()).unwrap_or_default();
-        if let Some((_, holes)) = &closed {
-            // The user's vertices, not the fans' centres (one per hole).
-            report.input_vertices -= holes.holes;
-            w.push(format!(
-                "closed {} hole(s) in the mesh ({:.0} mm of rim, {:.2} % of its area added); the model and its distances use the closed mesh",
-                holes.holes,
-                holes.rim_length * opts.units.to_mm(),
-                100.0 * holes.area_share
-            ));
-        }
-        w.append(&mut report.warnings);
-        report.warnings = w;
-    }
-    if result.is_ok() {
-        report_progress(Progress {
-            stage: "done",
-            done: RECONSTRUCT_STEPS,
-            total: RECONSTRUCT_STEPS,
-        });
-    }
-    result
+    report_progress(Progress {
+        stage: "done",
+        done: RECONSTRUCT_STEPS,
+        total: RECONSTRUCT_STEPS,
+    });
+    Ok((model, report))
 }
 
 fn reconstruct_steps(
@@ -527,7 +527,6 @@ fn reconstruct_steps(
     opts: &ReconstructOptions,
     progress: &mut dyn FnMut(&str),
 ) -> Result<(Body, Report), ReconstructError> {
-    check_options(opts)?;
     progress("segmenting");
     let seg0 = segment(body, &opts.segment)?;
     let mut warnings = seg0.warnings.clone();

@@ -13,6 +13,7 @@
 
 use crate::curve::series::Series;
 use crate::geom::math::{Point3, Real, Vec2, Vec3};
+use crate::geom::rigid::Rigid;
 use crate::geom::tolerance::DIRECTION_EPS;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::{PI, TAU};
@@ -53,6 +54,16 @@ impl Frame {
     #[inline]
     pub fn normal(&self) -> Vec3 {
         self.e1.cross(self.e2)
+    }
+
+    /// The frame moved by `m` (the same plane coordinates then name the
+    /// moved points).
+    pub fn moved(&self, m: &Rigid) -> Frame {
+        Frame {
+            origin: m.point(self.origin),
+            e1: m.vector(self.e1),
+            e2: m.vector(self.e2),
+        }
     }
 
     /// World point of plane coordinates `(x, y)`.
@@ -114,6 +125,15 @@ pub struct TrigCurve {
 pub const DEFAULT_PERIMETER_ACCURACY: Real = 1e-10;
 
 impl TrigCurve {
+    /// The curve moved by `m` (its frame moved, its coefficients kept).
+    pub fn moved(&self, m: &Rigid) -> TrigCurve {
+        TrigCurve {
+            frame: self.frame.moved(m),
+            a: self.a.clone(),
+            b: self.b.clone(),
+        }
+    }
+
     /// A curve from its frame and coefficients, validated: both vectors of
     /// the same odd length `2J+1` with `J ≥ 1`, finite, and an orthonormal
     /// frame.

@@ -1,13 +1,14 @@
 //! The ground layer: numbers and vectors, the tolerances, small dense
 //! linear algebra, triangle meshes and point clouds, closing a mesh's
-//! holes, reference shapes, the median, the random generator and the
-//! data-parallel helpers. Depends on nothing else.
+//! holes, rigid motions, reference shapes, the median, the random
+//! generator and the data-parallel helpers. Depends on nothing else.
 
 pub mod holes;
 pub mod linalg;
 pub mod math;
 pub mod mesh;
 pub mod parallel;
+pub mod rigid;
 pub mod rng;
 pub mod shapes;
 pub mod stats;

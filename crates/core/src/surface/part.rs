@@ -56,6 +56,7 @@
 
 use crate::curve::trig::{CurveError, SpaceCurve, TrigCurve};
 use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::rigid::Rigid;
 use crate::geom::tolerance::GEOMETRIC_EPS;
 use crate::surface::cap::{dome_cap, flat_cap, Cap, CapError, CapKind};
 use crate::surface::patch::{combine, flatten, unflatten, EndConditions, Patch, PatchError};
@@ -372,6 +373,14 @@ fn patch_breaks(intervals: usize, curves_per_patch: usize) -> Vec<usize> {
 }
 
 impl Part {
+    /// The part moved by `m`: skinned again through its moved sections
+    /// with its options, as a model file rebuilds it (so a moved model
+    /// written and read back is the same model).
+    pub fn moved(&self, m: &Rigid) -> Result<Part, PartError> {
+        let sections = self.sections.iter().map(|c| c.moved(m)).collect();
+        Part::new(sections, &self.options)
+    }
+
     /// Skins `curves` (ordered along the part) with `options`.
     ///
     /// The sections are checked first: every curve valid, consecutive centres

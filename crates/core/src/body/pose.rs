@@ -1,0 +1,323 @@
+//! The input as the pipeline's steps see it: a scan without its floor and
+//! strays, a mesh with its holes closed, and a mesh in its own frame.
+//!
+//! The body in its own frame: a mesh is reconstructed as a copy moved
+//! into the body's frame (origin on the floor under the crotch, left +x,
+//! up +y, front +z) with its vertices and triangles in a canonical order,
+//! and its model is moved back. Grids, slices and samples then see the
+//! same body whichever way the user's file turned it, moved it or
+//! numbered it: the model of a rotated mesh is the rotated model, with
+//! the same design parameters.
+//!
+//! A scan is not moved: its segmentation still turns on the pixels of its
+//! slab images (a shift of a fraction of a millimetre moves the front
+//! found from the feet by a degree), so a fixed frame would only pick one
+//! of those outcomes for every scan rather than make them agree.
+//! [`Body::moved`] takes a model back, rebuilt from its moved sections as
+//! a model file rebuilds it.
+
+use super::{
+    Body, BodyCavity, BodyPart, BodyTransition, ReconstructError, ReconstructOptions, Report, Units,
+};
+use crate::anatomy::{BodyGeometry, PartName};
+use crate::geom::holes::{close_holes, ClosedHoles};
+use crate::geom::math::{Point3, Real};
+use crate::geom::mesh::{Mesh, PointCloud};
+use crate::geom::rigid::Rigid;
+use crate::segment::segment;
+use crate::spatial::cloud_clean::{clean_cloud, CleanOptions, CleanReport};
+use crate::surface::part::Part;
+use crate::surface::transition::{Seam, SideCut, Transition};
+use std::borrow::Cow;
+
+/// An input moved into its own frame and reordered.
+pub(super) enum Owned {
+    Mesh(Mesh),
+    Cloud(PointCloud),
+}
+
+impl Owned {
+    pub(super) fn geometry(&self) -> BodyGeometry<'_> {
+        match self {
+            Owned::Mesh(m) => BodyGeometry::Mesh(m),
+            Owned::Cloud(c) => BodyGeometry::Cloud(c),
+        }
+    }
+}
+
+/// The input moved into the body's own frame (found by segmenting it as
+/// given) and order, and the motion that did it.
+pub(super) fn own_pose(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+) -> Result<(Owned, Rigid), ReconstructError> {
+    let prepared = Prepared::of(body, opts);
+    let seg = segment(prepared.geometry(), &prepared.options(opts).segment)?;
+    let into = seg
+        .frame
+        .into_own_axes()
+        .ok_or(ReconstructError::Frame { frame: seg.frame })?;
+    Ok((in_own_frame(body, &into, seg.height), into))
+}
+
+/// The input as the steps see it: a scan without its floor and strays, a
+/// mesh with its holes closed (sections through a hole are open chains).
+pub(super) struct Prepared<'a> {
+    input: BodyGeometry<'a>,
+    cleaned: Option<(Cow<'a, PointCloud>, CleanReport)>,
+    closed: Option<(Mesh, ClosedHoles)>,
+}
+
+impl<'a> Prepared<'a> {
+    pub(super) fn of(input: BodyGeometry<'a>, opts: &ReconstructOptions) -> Prepared<'a> {
+        let clean = CleanOptions {
+            up: opts.segment.up,
+            ..opts.clean
+        };
+        match input {
+            BodyGeometry::Cloud(cloud) => Prepared {
+                input,
+                cleaned: Some(clean_cloud(cloud, &clean)),
+                closed: None,
+            },
+            BodyGeometry::Mesh(mesh) => Prepared {
+                input,
+                cleaned: None,
+                closed: close_holes(mesh),
+            },
+        }
+    }
+
+    pub(super) fn geometry(&self) -> BodyGeometry<'_> {
+        match (&self.cleaned, &self.closed) {
+            (Some((cloud, _)), _) => BodyGeometry::Cloud(cloud),
+            (None, Some((mesh, _))) => BodyGeometry::Mesh(mesh),
+            (None, None) => self.input,
+        }
+    }
+
+    /// `opts` with the floor's normal as `up` when a floor was found and
+    /// no `up` given.
+    pub(super) fn options(&self, opts: &ReconstructOptions) -> ReconstructOptions {
+        let mut o = *opts;
+        if let Some((_, cleaning)) = &self.cleaned {
+            o.segment.up = o.segment.up.or(cleaning.floor_normal);
+        }
+        o
+    }
+
+    /// What cleaning and closing did, for the report (whose vertex count
+    /// loses the fans' centres, one per hole).
+    pub(super) fn warnings(&self, report: &mut Report, units: Units) -> Vec<String> {
+        let mut w = self
+            .cleaned
+            .as_ref()
+            .map(|c| c.1.warnings())
+            .unwrap_or_default();
+        if let Some((_, holes)) = &self.closed {
+            report.input_vertices -= holes.holes;
+            w.push(format!(
+                "closed {} hole(s) in the mesh ({:.0} mm of rim, {:.2} % of its area added); the model and its distances use the closed mesh",
+                holes.holes,
+                holes.rim_length * units.to_mm(),
+                100.0 * holes.area_share
+            ));
+        }
+        w
+    }
+}
+
+impl Body {
+    /// The body moved by `m`: its frame, and its parts, cavities and
+    /// transitions rebuilt from their moved sections and specifications as
+    /// a model file rebuilds them (written and read back, the moved body is
+    /// the same body).
+    pub fn moved(&self, m: &Rigid) -> Result<Body, ReconstructError> {
+        let part = |name: PartName, p: &Part| {
+            p.moved(m)
+                .map_err(|source| ReconstructError::Part { part: name, source })
+        };
+        let parts = self
+            .parts
+            .iter()
+            .map(|p| {
+                Ok(BodyPart {
+                    name: p.name,
+                    part: part(p.name, &p.part)?,
+                    fits: p.fits.clone(),
+                })
+            })
+            .collect::<Result<Vec<_>, ReconstructError>>()?;
+        let cavities = self
+            .cavities
+            .iter()
+            .map(|c| {
+                Ok(BodyCavity {
+                    within: c.within,
+                    part: part(c.within, &c.part)?,
+                    fits: c.fits.clone(),
+                })
+            })
+            .collect::<Result<Vec<_>, ReconstructError>>()?;
+        let find = |name: PartName| parts.iter().find(|p| p.name == name).map(|p| &p.part);
+        let transitions = self
+            .transitions
+            .iter()
+            .map(|t| {
+                let mut spec = *t.transition.spec();
+                spec.seam = spec.seam.map(|s| Seam {
+                    point: m.point(s.point),
+                    normal: m.vector(s.normal),
+                    up: m.vector(s.up),
+                });
+                spec.side = spec.side.map(|s| SideCut {
+                    point: m.point(s.point),
+                    normal: m.vector(s.normal),
+                });
+                let failed = |why: String| ReconstructError::Transition {
+                    from: t.from,
+                    to: t.to,
+                    why,
+                };
+                let (Some(from), Some(to)) = (find(t.from), find(t.to)) else {
+                    return Err(failed("a part is missing".into()));
+                };
+                Ok(BodyTransition {
+                    from: t.from,
+                    to: t.to,
+                    transition: Transition::between(from, to, spec)
+                        .map_err(|e| failed(e.to_string()))?,
+                })
+            })
+            .collect::<Result<Vec<_>, ReconstructError>>()?;
+        Ok(Body {
+            units: self.units,
+            frame: self.frame.moved(m),
+            height: self.height,
+            parts,
+            transitions,
+            cavities,
+        })
+    }
+}
+
+/// Coordinates are compared in steps of this fraction of the height when
+/// ordering: two copies of a body that differ by rounding (one turned and
+/// turned back) then sort alike, and mirror-image vertices at one height
+/// sort by their other coordinates.
+const ORDER_QUANTUM: Real = 1e-9;
+
+/// `body` moved by `m`, its points sorted by height, then across, then
+/// front to back (in steps of [`ORDER_QUANTUM`] of `height`); a mesh's
+/// triangles renumbered, each started at its lowest vertex (orientation
+/// kept) and sorted.
+pub(super) fn in_own_frame(body: BodyGeometry<'_>, m: &Rigid, height: Real) -> Owned {
+    let q = ORDER_QUANTUM * height;
+    match body {
+        BodyGeometry::Mesh(mesh) => {
+            let moved = m.mesh(mesh);
+            let order = sorted_order(&moved.positions, q);
+            let mut new_index = vec![0u32; order.len()];
+            for (new, &old) in order.iter().enumerate() {
+                new_index[old] = new as u32;
+            }
+            let mut triangles: Vec<[u32; 3]> = moved
+                .triangles
+                .iter()
+                .map(|t| lowest_first(t.map(|i| new_index[i as usize])))
+                .collect();
+            triangles.sort_unstable();
+            Owned::Mesh(Mesh {
+                positions: permuted(&moved.positions, &order),
+                normals: moved.normals.as_ref().map(|n| permuted(n, &order)),
+                triangles,
+            })
+        }
+        BodyGeometry::Cloud(cloud) => {
+            let moved = m.cloud(cloud);
+            let order = sorted_order(&moved.positions, q);
+            Owned::Cloud(PointCloud {
+                positions: permuted(&moved.positions, &order),
+                normals: moved.normals.as_ref().map(|n| permuted(n, &order)),
+            })
+        }
+    }
+}
+
+/// The indices of `points` sorted by quantized (y, x, z); ties keep the
+/// input's order.
+fn sorted_order(points: &[Point3], q: Real) -> Vec<usize> {
+    let key = |p: &Point3| [p.y, p.x, p.z].map(|c| (c / q).round() as i64);
+    let keys: Vec<[i64; 3]> = points.iter().map(key).collect();
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by_key(|&i| keys[i]);
+    order
+}
+
+fn permuted<T: Copy>(v: &[T], order: &[usize]) -> Vec<T> {
+    order.iter().map(|&i| v[i]).collect()
+}
+
+/// The same triangle (same orientation) started at its lowest index.
+fn lowest_first(t: [u32; 3]) -> [u32; 3] {
+    let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+    [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::math::Vec3;
+    use crate::geom::shapes;
+
+    #[test]
+    fn a_reordered_mesh_becomes_the_same_mesh() {
+        let mesh = shapes::uv_sphere(Vec3::new(1.0, 2.0, 3.0), 0.5, 8, 12);
+        let n = mesh.positions.len();
+        // Reverse the vertices, renumber, turn every triangle's start and
+        // reverse the triangles' order.
+        let old_of = |i: u32| (n as u32 - 1) - i;
+        let shuffled = Mesh {
+            positions: mesh.positions.iter().rev().copied().collect(),
+            normals: None,
+            triangles: mesh
+                .triangles
+                .iter()
+                .rev()
+                .map(|t| [old_of(t[1]), old_of(t[2]), old_of(t[0])])
+                .collect(),
+        };
+        let m = Rigid::into_axes(Vec3::new(1.0, 2.0, 3.0), Vec3::X, Vec3::Y).unwrap();
+        let (Owned::Mesh(a), Owned::Mesh(b)) = (
+            in_own_frame(BodyGeometry::Mesh(&mesh), &m, 1.0),
+            in_own_frame(BodyGeometry::Mesh(&shuffled), &m, 1.0),
+        ) else {
+            panic!("meshes stay meshes");
+        };
+        assert_eq!(a, b);
+        // Moved: the centre at the origin; the orientation kept.
+        let c = a.positions.iter().fold(Vec3::ZERO, |s, &p| s + p) / a.positions.len() as Real;
+        assert!(c.norm() < 1e-12);
+        assert!((a.signed_volume() - mesh.signed_volume()).abs() < 1e-12);
+        assert!(a.triangles.iter().all(|t| t[0] < t[1] && t[0] < t[2]));
+    }
+
+    #[test]
+    fn a_cloud_is_sorted_by_height_then_across() {
+        let cloud = PointCloud {
+            positions: vec![
+                Vec3::new(1.0, 2.0, 0.0),
+                Vec3::new(-1.0, 2.0, 0.0),
+                Vec3::new(0.0, 1.0, 5.0),
+            ],
+            normals: Some(vec![Vec3::X, Vec3::Y, Vec3::Z]),
+        };
+        let Owned::Cloud(c) = in_own_frame(BodyGeometry::Cloud(&cloud), &Rigid::IDENTITY, 1.0)
+        else {
+            panic!("clouds stay clouds");
+        };
+        assert_eq!(c.positions[0], Vec3::new(0.0, 1.0, 5.0));
+        assert_eq!(c.positions[1], Vec3::new(-1.0, 2.0, 0.0));
+        assert_eq!(c.normals.unwrap(), vec![Vec3::Z, Vec3::Y, Vec3::X]);
+    }
+}

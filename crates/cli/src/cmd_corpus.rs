@@ -14,9 +14,10 @@ use clap::Args;
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+use trigbody_core::internals::geom::rng::Rng;
 use trigbody_core::internals::spatial::distance::{DistanceStats, MeshDistance};
 use trigbody_core::{
-    compare_surfaces, reconstruct, BodyGeometry, CompareOptions, Mesh, ReconstructOptions,
+    compare_surfaces, reconstruct, BodyGeometry, CompareOptions, Mesh, ReconstructOptions, Rigid,
     SurfaceComparison, Units, Vec3,
 };
 use trigbody_io::model::{merge_pieces, Skin};
@@ -48,6 +49,20 @@ pub struct CorpusArgs {
     /// Pictures of this many worst inputs (by symmetric RMS).
     #[arg(long, default_value_t = 5)]
     pub pictures: usize,
+    /// Move every input by this many millimetres (in a direction drawn
+    /// from `--seed` and the input's name) and its model back before
+    /// judging: a probe of how stable a reconstruction is under a change
+    /// that should change nothing.
+    #[arg(long, default_value_t = 0.0)]
+    pub shift_mm: f64,
+    /// Turn every input by this many degrees about an axis drawn from
+    /// `--seed` and its name (with `--shift-mm`, then moved), its model
+    /// turned back before judging.
+    #[arg(long, default_value_t = 0.0)]
+    pub turn_deg: f64,
+    /// The seed of `--shift-mm`'s and `--turn-deg`'s directions.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// Replace existing result files.
     #[arg(long)]
     pub force: bool,
@@ -91,6 +106,18 @@ struct Judged {
 }
 
 pub fn run(args: CorpusArgs) -> Result<()> {
+    if !(args.shift_mm.is_finite() && args.shift_mm >= 0.0) {
+        return Err(bad(format!(
+            "--shift-mm {}: must be a finite number of millimetres, 0 or more",
+            args.shift_mm
+        )));
+    }
+    if !(args.turn_deg.is_finite() && args.turn_deg.abs() <= 360.0) {
+        return Err(bad(format!(
+            "--turn-deg {}: must be a finite angle within ±360 degrees",
+            args.turn_deg
+        )));
+    }
     let manifest_path = args.dir.join("manifest.json");
     let text = std::fs::read_to_string(&manifest_path)
         .map_err(|e| bad(format!("{}: {e}", manifest_path.display())))?;
@@ -226,11 +253,24 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), 
         ..ReconstructOptions::default()
     };
     options.segment.up = case.up;
+    let shift = probe_motion(&case.name, args, case.units);
+    let geometry = match (geometry, &shift) {
+        (g, None) => g,
+        (Geometry::Mesh(m), Some(t)) => Geometry::Mesh(t.mesh(&m)),
+        (Geometry::Points(c), Some(t)) => Geometry::Points(t.cloud(&c)),
+    };
     let body = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
     };
-    let (model, report) = reconstruct(body, &options).map_err(|e| e.to_string())?;
+    let (mut model, mut report) = reconstruct(body, &options).map_err(|e| e.to_string())?;
+    if let Some(t) = shift {
+        let back = t.inverse();
+        model = model.moved(&back).map_err(|e| e.to_string())?;
+        for (_, p) in report.joints.iter_mut() {
+            *p = back.point(*p);
+        }
+    }
     let skin = outer_skin(&model)?;
     let mm = case.units.to_mm();
     let cmp = compare_surfaces(
@@ -288,6 +328,29 @@ const JOINTS: [&str; 12] = [
 
 /// Joint errors above this (mm) fail.
 const JOINT_LIMIT_MM: f64 = 30.0;
+
+/// The motion `--turn-deg` and `--shift-mm` ask of one input (`None` for
+/// neither): the axis and direction drawn from the seed and the input's
+/// name, so every input moves its own way and a run can be repeated.
+fn probe_motion(name: &str, args: &CorpusArgs, units: Units) -> Option<Rigid> {
+    if args.shift_mm == 0.0 && args.turn_deg == 0.0 {
+        return None;
+    }
+    // FNV-1a of the name, mixed with the seed.
+    let hash = name.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    });
+    let mut rng = Rng::new(hash ^ args.seed);
+    let mut unit = || Vec3::new(rng.gaussian(), rng.gaussian(), rng.gaussian()).normalized();
+    let (k, d) = (unit()?, unit()?);
+    // Rodrigues for R^T, the turn by `-turn_deg` about `k`: the rows of
+    // the turn R are R^T e_i, and `into_axes` moves its origin to zero, so
+    // the origin `-R^T t` ends at the shift `t`.
+    let (sn, cs) = args.turn_deg.to_radians().sin_cos();
+    let inverse = |v: Vec3| v * cs - k.cross(v) * sn + k * (k.dot(v) * (1.0 - cs));
+    let to = d * (args.shift_mm / units.to_mm());
+    Rigid::into_axes(-inverse(to), inverse(Vec3::X), inverse(Vec3::Y))
+}
 
 /// The model's outer skin as `reconstruct --mesh M --skin outer` writes it.
 fn outer_skin(model: &trigbody_core::Body) -> std::result::Result<Mesh, String> {

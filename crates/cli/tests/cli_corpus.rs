@@ -156,3 +156,70 @@ fn a_folder_without_a_manifest_is_a_usage_error() {
     assert_eq!(run.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&run.stderr).contains("manifest.json"));
 }
+
+/// `--turn-deg` and `--shift-mm` move each input its own way and its model
+/// back: a mesh (built in its own frame) is judged exactly as given, and
+/// bad probe values are usage errors.
+#[test]
+fn a_turned_and_moved_mesh_is_judged_as_given() {
+    let bad = |args: &[&str]| {
+        let out = out_dir("badprobe");
+        let run = Command::cargo_bin("trigbody")
+            .unwrap()
+            .arg("corpus")
+            .arg(&out)
+            .args(args)
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(2), "{args:?}");
+        String::from_utf8_lossy(&run.stderr).into_owned()
+    };
+    assert!(bad(&["--turn-deg", "NaN"]).contains("--turn-deg"));
+    assert!(bad(&["--shift-mm=-1"]).contains("--shift-mm -1"));
+    let Some(dir) = corpus() else {
+        return;
+    };
+    let rms = |extra: &[&str]| {
+        let out = out_dir(&format!("probe{}", extra.len()));
+        let run = Command::cargo_bin("trigbody")
+            .unwrap()
+            .arg("corpus")
+            .arg(&dir)
+            .args([
+                "--only",
+                "body_033",
+                "--pictures",
+                "0",
+                "--samples",
+                "20000",
+            ])
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+        let row = csv.lines().nth(1).unwrap().to_string();
+        // Every column but the time.
+        let header: Vec<String> = csv
+            .lines()
+            .next()
+            .unwrap()
+            .split(',')
+            .map(String::from)
+            .collect();
+        row.split(',')
+            .zip(&header)
+            .filter(|(_, h)| h.as_str() != "seconds")
+            .map(|(v, _)| v.to_string())
+            .collect::<Vec<_>>()
+    };
+    let given = rms(&[]);
+    let probed = rms(&["--turn-deg", "40", "--shift-mm", "300", "--seed", "7"]);
+    assert_eq!(given, probed);
+}

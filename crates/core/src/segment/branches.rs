@@ -27,8 +27,8 @@ pub(super) struct Trunk {
 impl Trunk {
     /// The two legs (the segments without parents that start in the lowest
     /// tenth of the `n` slices), where they merge (the crotch) and the
-    /// trunk path from there up to the head top, taking the child nearest
-    /// above it at any split.
+    /// trunk path from there up to the head top, taking at any split the
+    /// child that continues it most nearly straight up.
     pub(super) fn find(
         g: &Graph,
         n: usize,
@@ -76,13 +76,18 @@ impl Trunk {
 
         // Trunk path: up from the crotch, at any split the child that
         // continues it most nearly straight up (the neck between raised
-        // arms, whose horizontal loops can be larger than the neck's).
+        // arms, whose horizontal loops can be larger than the neck's):
+        // the least mean offset across `up` of the child's loops over the
+        // next twelfth of the height ([`straightness`]), not of its first
+        // loop alone, which a forearm raised beside the head can win by
+        // a couple of scan points.
         let mut trunk_segs = vec![crotch_seg];
         let mut cur = crotch_seg;
         loop {
             let seg = &g.segments[cur];
+            let last = g.nodes[seg.nodes[seg.nodes.len() - 1]].slice;
             let here = g.nodes[seg.nodes[seg.nodes.len() - 1]].c2;
-            let offset = |c: usize| (g.nodes[g.segments[c].nodes[0]].c2 - here).norm();
+            let offset = |c: usize| straightness(g, c, here, last + n / 12);
             let Some(&next) = seg
                 .children
                 .iter()
@@ -124,5 +129,77 @@ impl Trunk {
         if g.mean_along(&self.leg_nodes[0], left) < g.mean_along(&self.leg_nodes[1], left) {
             self.leg_nodes.swap(0, 1);
         }
+    }
+}
+
+/// The mean distance across `up` from `here` of the loops of `child` and
+/// of every segment above it, up to slice `until`.
+fn straightness(g: &Graph, child: usize, here: crate::geom::math::Point2, until: usize) -> f64 {
+    let (mut sum, mut count) = (0.0, 0usize);
+    let mut seen = vec![false; g.segments.len()];
+    let mut stack = vec![child];
+    while let Some(s) = stack.pop() {
+        if std::mem::replace(&mut seen[s], true) {
+            continue;
+        }
+        let nodes = &g.segments[s].nodes;
+        for &a in nodes.iter().filter(|&&a| g.nodes[a].slice <= until) {
+            sum += (g.nodes[a].c2 - here).norm();
+            count += 1;
+        }
+        if nodes.first().is_some_and(|&a| g.nodes[a].slice <= until) {
+            stack.extend(g.segments[s].children.iter().copied());
+        }
+    }
+    if count == 0 {
+        f64::INFINITY
+    } else {
+        sum / count as f64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::math::{Point2, Vec2};
+    use crate::segment::graph::Node;
+
+    /// A square loop of half-side `r` centred at `(x, 0)` in slice `k`.
+    fn square(k: usize, x: f64, r: f64) -> Node {
+        let c = Vec2::new(x, 0.0);
+        let poly: Vec<Point2> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(a, b)| c + Vec2::new(a * r, b * r))
+            .collect();
+        Node::from_parts(k, Vec3::new(x, k as f64, 0.0), c, 4.0 * r * r, poly)
+    }
+
+    /// Legs, a trunk, and above the shoulders an arm going out, the head
+    /// straight up a little off the trunk's line, and a forearm whose
+    /// first loop is nearer that line than the head's but which turns
+    /// away: the path takes the head.
+    #[test]
+    fn the_trunk_path_takes_the_branch_that_goes_straight_up() {
+        let n = 120;
+        let slices: Vec<Vec<Node>> = (0..n)
+            .map(|k| match k {
+                0..30 => vec![square(k, -0.1, 0.04), square(k, 0.1, 0.04)],
+                30..81 => vec![square(k, 0.0, 0.15)],
+                _ => {
+                    let up = (k - 81) as f64;
+                    let mut loops =
+                        vec![square(k, -0.2 - 0.005 * up, 0.02), square(k, 0.03, 0.012)];
+                    if k < 93 {
+                        loops.push(square(k, -0.01 - 0.008 * up, 0.01));
+                    }
+                    loops
+                }
+            })
+            .collect();
+        let g = Graph::of_slices(slices, 2);
+        let trunk = Trunk::find(&g, n, &mut Vec::new()).unwrap();
+        let top = &g.nodes[trunk.top_node];
+        assert_eq!(top.slice, n - 1);
+        assert!((top.c2.x - 0.03).abs() < 1e-12, "{:?}", top.c2);
     }
 }

@@ -15,7 +15,8 @@
 //!    size), and what lies above it reaches at least `E / 2` along `n` (a
 //!    body stands on its floor; a flat side of it has no such reach). Its
 //!    plane is refitted (least squares) to the points within a band around
-//!    it that narrows to three robust deviations (at least two bins); every
+//!    it that narrows to three robust deviations (at least two bins), which
+//!    must stay under [`CleanOptions::max_floor_width`] × `E`; every
 //!    point below the band's top is floor. The two soles of a body cover about 0.02 E²; a
 //!    floor disc under the feet ten times that.
 //! 2. **Strays.** The remaining points are put in voxels of side
@@ -48,6 +49,13 @@ pub struct CleanOptions {
     pub up: Option<Vec3>,
     /// A floor covers at least this fraction of `E²`. Default 0.06.
     pub min_floor_area: Real,
+    /// A floor's sheet is at most this thick (three robust deviations of
+    /// its points from the plane, either side), as a fraction of `E`.
+    /// Default 0.025: a scanned floor is a few millimetres thick (corpus:
+    /// 0.004 E, the two-bin minimum), while a stretch of the body that a
+    /// candidate's refit turns to is 0.05-0.4 E thick and can cover as much
+    /// area as a floor.
+    pub max_floor_width: Real,
     /// Voxel side for the components, as a fraction of `E`. Default 0.01.
     pub voxel: Real,
     /// A component other than the largest is kept when it has at least
@@ -62,6 +70,7 @@ impl Default for CleanOptions {
             remove_strays: true,
             up: None,
             min_floor_area: 0.06,
+            max_floor_width: 0.025,
             voxel: 0.01,
             min_component: 0.05,
         }
@@ -225,6 +234,9 @@ fn find_floor(pts: &[Point3], extent: Real, opts: &CleanOptions) -> Option<Floor
         let Some(f) = floor_along(pts, n, extent, cell) else {
             continue;
         };
+        if f.width > opts.max_floor_width * extent {
+            continue;
+        }
         if f.area >= opts.min_floor_area && best.as_ref().is_none_or(|b| f.area > b.area) {
             best = Some(f);
         }
@@ -626,6 +638,18 @@ mod tests {
             ..CleanOptions::default()
         };
         let (_, r) = clean_cloud(&c, &opts);
+        assert_eq!(r.floor_points, 0);
+    }
+
+    #[test]
+    fn a_floor_thicker_than_the_limit_is_not_a_floor() {
+        let c = column(true, false);
+        let opts = CleanOptions {
+            max_floor_width: 1e-4,
+            ..CleanOptions::default()
+        };
+        let (_, r) = clean_cloud(&c, &opts);
+        assert_eq!(r.floor_normal, None);
         assert_eq!(r.floor_points, 0);
     }
 }

@@ -2,7 +2,7 @@
 //! curve fitting, reading meshes and scans, body reconstruction, model
 //! files, tessellation and measurement, numpy in and numpy out. The Python
 //! half (`python/trigbody/__init__.py`) checks dtypes and shapes and wraps
-//! the report; `python -m trigbody` runs the command line itself ([`cli`]).
+//! the report; `python -m trigbody` runs the command line itself (`cli`).
 //!
 //! Every long call releases the GIL (`Python::detach`), so threads (and
 //! Dask's threaded workers) run bodies in parallel. Bad input raises

@@ -6,8 +6,8 @@
 //! above the malleoli; the ankle joint is lower, where the foot begins:
 //! walking down the shank's line from that cut in horizontal sections,
 //! the first whose length along the foot exceeds the shank's by
-//! [`FOOT_BEGINS`] ([`ankle_joint`]). A bent elbow or knee is where the
-//! straight lines of its two segments cross ([`bend_corner`]): the
+//! `FOOT_BEGINS` (`ankle_joint`). A bent elbow or knee is where the
+//! straight lines of its two segments cross (`bend_corner`): the
 //! axis's smoothing cuts the corner, the lines do not. A straight limb
 //! has no corner to find; its joint is placed by the segment lengths of
 //! the standard anthropometric tables (Drillis and Contini 1966, as
@@ -17,7 +17,7 @@
 //! arm's axis, the knee at the shank's share of the rise from the
 //! body's own ankle joint to the hip's height. The shoulder lies on the
 //! upper arm's line where the shoulder's bones put it
-//! ([`shoulder_joint`]); the hip on the thigh's axis line continued up
+//! (`shoulder_joint`); the hip on the thigh's axis line continued up
 //! to 0.04 `H` above the crotch, in the trunk's coronal plane.
 
 use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};

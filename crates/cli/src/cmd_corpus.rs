@@ -155,7 +155,16 @@ pub fn run(args: CorpusArgs) -> Result<()> {
         crate::exit::diag(format_args!("[{}] {}", k + 1, row_text(&o)));
         outcomes.push(o);
     }
-    let md = markdown(&outcomes);
+    let mut md = markdown(&outcomes);
+    if args.turn_deg != 0.0 || args.shift_mm != 0.0 {
+        md.insert_str(
+            0,
+            &format!(
+                "Every input turned {}° and moved {} mm (--seed {}: its own axis and direction), its model turned back before judging.\n\n",
+                args.turn_deg, args.shift_mm, args.seed
+            ),
+        );
+    }
     write_file(&args.out.join("results.md"), md.as_bytes(), &[], args.force)?;
     write_file(
         &args.out.join("results.csv"),

@@ -204,6 +204,12 @@ fn a_turned_and_moved_mesh_is_judged_as_given() {
             String::from_utf8_lossy(&run.stderr)
         );
         let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+        let md = std::fs::read_to_string(out.join("results.md")).unwrap();
+        assert_eq!(
+            md.starts_with("Every input turned"),
+            !extra.is_empty(),
+            "{md}"
+        );
         let row = csv.lines().nth(1).unwrap().to_string();
         // Every column but the time.
         let header: Vec<String> = csv

@@ -8,7 +8,10 @@
 //!    unit area) is estimated once as twice the median nearest-neighbour
 //!    distance of a sample of points, passing over a point's near twins
 //!    when the points come in clusters (a scan merged with a jittered copy
-//!    of itself). Every length default below is a multiple of `s`, so
+//!    of itself), and at least three times the cloud's noise across its
+//!    surface (a quadric fitted to each sampled point's 24 neighbours), so
+//!    a cloud noisier than its sampling gets cells no finer than its shell
+//!    is thick. Every length default below is a multiple of `s`, so
 //!    nothing assumes metres.
 //! 2. **Slab.** The points with `|p·n − c| ≤ t` (default `t = s`) are
 //!    projected into the plane. The points are sorted by height once, so

@@ -261,8 +261,9 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), 
         units: case.units,
         ..ReconstructOptions::default()
     };
-    options.segment.up = case.up;
     let shift = probe_motion(&case.name, args, case.units);
+    // The manifest's up (--given-up) turns with the input.
+    options.segment.up = case.up.map(|u| shift.map_or(u, |t| t.vector(u)));
     let geometry = match (geometry, &shift) {
         (g, None) => g,
         (Geometry::Mesh(m), Some(t)) => Geometry::Mesh(t.mesh(&m)),

@@ -205,11 +205,8 @@ fn a_turned_and_moved_mesh_is_judged_as_given() {
         );
         let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
         let md = std::fs::read_to_string(out.join("results.md")).unwrap();
-        assert_eq!(
-            md.starts_with("Every input turned"),
-            !extra.is_empty(),
-            "{md}"
-        );
+        let turned = extra.contains(&"--turn-deg");
+        assert_eq!(md.starts_with("Every input turned"), turned, "{md}");
         let row = csv.lines().nth(1).unwrap().to_string();
         // Every column but the time.
         let header: Vec<String> = csv
@@ -228,4 +225,8 @@ fn a_turned_and_moved_mesh_is_judged_as_given() {
     let given = rms(&[]);
     let probed = rms(&["--turn-deg", "40", "--shift-mm", "300", "--seed", "7"]);
     assert_eq!(given, probed);
+    // The manifest's up axis turns with the input.
+    let up = rms(&["--given-up"]);
+    let up_probed = rms(&["--given-up", "--turn-deg", "40", "--seed", "7"]);
+    assert_eq!(up, up_probed);
 }

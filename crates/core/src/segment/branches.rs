@@ -1,7 +1,7 @@
 //! The legs', crotch's and trunk's branches of the slice graph (module
 //! docs, step 5).
 
-use crate::geom::math::Vec3;
+use crate::geom::math::{Point2, Vec2, Vec3};
 use crate::segment::graph::Graph;
 use crate::segment::SegmentError;
 
@@ -80,14 +80,24 @@ impl Trunk {
         // the least mean offset across `up` of the child's loops over the
         // next twelfth of the height ([`straightness`]), not of its first
         // loop alone, which a forearm raised beside the head can win by
-        // a couple of scan points.
+        // a couple of scan points; measured from the trunk's own line
+        // ([`TrunkLine`]), not the parent's last loop, which may already
+        // hold a raised arm.
         let mut trunk_segs = vec![crotch_seg];
         let mut cur = crotch_seg;
+        let line = TrunkLine::of(g, crotch_seg);
         loop {
             let seg = &g.segments[cur];
             let last = g.nodes[seg.nodes[seg.nodes.len() - 1]].slice;
             let here = g.nodes[seg.nodes[seg.nodes.len() - 1]].c2;
-            let offset = |c: usize| straightness(g, c, here, last + n / 12);
+            let offset = |c: usize| {
+                straightness(
+                    g,
+                    c,
+                    &|k| line.as_ref().map_or(here, |l| l.at(k)),
+                    last + n / 12,
+                )
+            };
             let Some(&next) = seg
                 .children
                 .iter()
@@ -132,9 +142,50 @@ impl Trunk {
     }
 }
 
-/// The mean distance across `up` from `here` of the loops of `child` and
-/// of every segment above it, up to slice `until`.
-fn straightness(g: &Graph, child: usize, here: crate::geom::math::Point2, until: usize) -> f64 {
+/// The mean distance across `up` from the trunk's `line` (its point at
+/// each slice) of the loops of `child` and of every segment above it, up
+/// to slice `until`.
+/// The trunk's line across `up`, slice by slice: the least-squares line
+/// through the centroids of the middle half of the crotch's segment (the
+/// trunk up to its first split; its top may hold a raised arm's root
+/// merged into the shoulder's loop, its bottom the hips), so a lean is
+/// followed and an arm merged into the loops above does not pull it.
+struct TrunkLine {
+    at0: Point2,
+    per_slice: Vec2,
+    slice0: f64,
+}
+
+impl TrunkLine {
+    fn of(g: &Graph, crotch_seg: usize) -> Option<TrunkLine> {
+        let nodes = &g.segments[crotch_seg].nodes;
+        let middle = &nodes[nodes.len() / 4..3 * nodes.len() / 4];
+        if middle.len() < 4 {
+            return None;
+        }
+        let k = middle.len() as f64;
+        let mean_s = middle.iter().map(|&a| g.nodes[a].slice as f64).sum::<f64>() / k;
+        let mean_c = middle.iter().fold(Vec2::ZERO, |m, &a| m + g.nodes[a].c2) * (1.0 / k);
+        let (mut sxx, mut sxc) = (0.0, Vec2::ZERO);
+        for &a in middle {
+            let ds = g.nodes[a].slice as f64 - mean_s;
+            sxx += ds * ds;
+            sxc += (g.nodes[a].c2 - mean_c) * ds;
+        }
+        (sxx > 0.0).then(|| TrunkLine {
+            at0: mean_c,
+            per_slice: sxc * (1.0 / sxx),
+            slice0: mean_s,
+        })
+    }
+
+    /// The line's point at `slice`.
+    fn at(&self, slice: usize) -> Point2 {
+        self.at0 + self.per_slice * (slice as f64 - self.slice0)
+    }
+}
+
+fn straightness(g: &Graph, child: usize, line: &dyn Fn(usize) -> Point2, until: usize) -> f64 {
     let (mut sum, mut count) = (0.0, 0usize);
     let mut seen = vec![false; g.segments.len()];
     let mut stack = vec![child];
@@ -144,7 +195,7 @@ fn straightness(g: &Graph, child: usize, here: crate::geom::math::Point2, until:
         }
         let nodes = &g.segments[s].nodes;
         for &a in nodes.iter().filter(|&&a| g.nodes[a].slice <= until) {
-            sum += (g.nodes[a].c2 - here).norm();
+            sum += (g.nodes[a].c2 - line(g.nodes[a].slice)).norm();
             count += 1;
         }
         if nodes.first().is_some_and(|&a| g.nodes[a].slice <= until) {
@@ -201,5 +252,27 @@ mod tests {
         let top = &g.nodes[trunk.top_node];
         assert_eq!(top.slice, n - 1);
         assert!((top.c2.x - 0.03).abs() < 1e-12, "{:?}", top.c2);
+    }
+
+    /// Above the trunk a wide loop holds the trunk and a raised arm (its
+    /// centroid pulled toward the arm); at the split the arm goes straight
+    /// up nearer that centroid than the head does. Measured from the
+    /// trunk's own line, the path still takes the head.
+    #[test]
+    fn the_trunk_path_is_measured_from_the_trunk_not_from_a_merged_loop() {
+        let n = 120;
+        let slices: Vec<Vec<Node>> = (0..n)
+            .map(|k| match k {
+                0..30 => vec![square(k, -0.1, 0.04), square(k, 0.1, 0.04)],
+                30..75 => vec![square(k, 0.0, 0.15)],
+                75..81 => vec![square(k, -0.1, 0.2)],
+                _ => vec![square(k, -0.16, 0.02), square(k, 0.0, 0.02)],
+            })
+            .collect();
+        let g = Graph::of_slices(slices, 2);
+        let trunk = Trunk::find(&g, n, &mut Vec::new()).unwrap();
+        let top = &g.nodes[trunk.top_node];
+        assert_eq!(top.slice, n - 1);
+        assert!(top.c2.x.abs() < 1e-12, "{:?}", top.c2);
     }
 }

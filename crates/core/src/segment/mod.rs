@@ -77,8 +77,8 @@
 //!    merge into the same one, and its first loop is the **crotch**. The
 //!    *trunk path* runs up from there, taking at any split the child whose
 //!    loops over the next twelfth of the height lie nearest (across `up`)
-//!    to the parent's last loop, to a segment without children: the
-//!    **head top**. The
+//!    to the trunk's line below its first split, to a segment without
+//!    children: the **head top**. The
 //!    *arms* are the other segments without parents, at least
 //!    [`SegmentOptions::min_arm`] × `H` long, whose chain merges into the
 //!    trunk path above the crotch; the merge is the **armpit**, and the side

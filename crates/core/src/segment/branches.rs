@@ -85,7 +85,7 @@ impl Trunk {
         // hold a raised arm.
         let mut trunk_segs = vec![crotch_seg];
         let mut cur = crotch_seg;
-        let line = TrunkLine::of(g, crotch_seg);
+        let line = TrunkLine::of(g, crotch_seg, n);
         loop {
             let seg = &g.segments[cur];
             let last = g.nodes[seg.nodes[seg.nodes.len() - 1]].slice;
@@ -157,10 +157,17 @@ struct TrunkLine {
 }
 
 impl TrunkLine {
-    fn of(g: &Graph, crotch_seg: usize) -> Option<TrunkLine> {
+    /// `None` when the middle half spans less than a tenth of the `n`
+    /// slices: a few noisy centroids give no line to extrapolate (the path
+    /// is then measured from the parent's last loop).
+    fn of(g: &Graph, crotch_seg: usize, n: usize) -> Option<TrunkLine> {
         let nodes = &g.segments[crotch_seg].nodes;
         let middle = &nodes[nodes.len() / 4..3 * nodes.len() / 4];
-        if middle.len() < 4 {
+        let span = |a: &[usize]| match (a.first(), a.last()) {
+            (Some(&lo), Some(&hi)) => g.nodes[hi].slice - g.nodes[lo].slice,
+            _ => 0,
+        };
+        if middle.len() < 4 || span(middle) < n / 10 {
             return None;
         }
         let k = middle.len() as f64;

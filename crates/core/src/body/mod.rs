@@ -490,7 +490,7 @@ pub fn reconstruct_with_progress(
     // A mesh is moved into its own frame and order; a scan stays as given
     // (`pose` says why).
     let own = match body {
-        BodyGeometry::Mesh(_) => Some(pose::own_pose(body, opts)?),
+        BodyGeometry::Mesh(mesh) => Some(pose::own_pose(mesh, opts)?),
         BodyGeometry::Cloud(_) => None,
     };
     let mut own_opts = *opts;
@@ -498,7 +498,10 @@ pub fn reconstruct_with_progress(
         own_opts.segment.up = Some(Vec3::Y);
         own_opts.segment.front = opts.segment.front.map(|f| into.vector(f));
     }
-    let prepared = pose::Prepared::of(own.as_ref().map_or(body, |o| o.0.geometry()), &own_opts);
+    let prepared = pose::Prepared::of(
+        own.as_ref().map_or(body, |o| BodyGeometry::Mesh(&o.0)),
+        &own_opts,
+    );
     let own_opts = prepared.options(&own_opts);
     let (model, mut report) = reconstruct_steps(prepared.geometry(), &own_opts, &mut progress)?;
     let mut warnings = prepared.warnings(&mut report, opts.units);

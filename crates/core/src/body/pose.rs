@@ -30,34 +30,19 @@ use crate::surface::part::Part;
 use crate::surface::transition::{Seam, SideCut, Transition};
 use std::borrow::Cow;
 
-/// An input moved into its own frame and reordered.
-pub(super) enum Owned {
-    Mesh(Mesh),
-    Cloud(PointCloud),
-}
-
-impl Owned {
-    pub(super) fn geometry(&self) -> BodyGeometry<'_> {
-        match self {
-            Owned::Mesh(m) => BodyGeometry::Mesh(m),
-            Owned::Cloud(c) => BodyGeometry::Cloud(c),
-        }
-    }
-}
-
-/// The input moved into the body's own frame (found by segmenting it as
+/// The mesh moved into the body's own frame (found by segmenting it as
 /// given) and order, and the motion that did it.
 pub(super) fn own_pose(
-    body: BodyGeometry<'_>,
+    mesh: &Mesh,
     opts: &ReconstructOptions,
-) -> Result<(Owned, Rigid), ReconstructError> {
-    let prepared = Prepared::of(body, opts);
+) -> Result<(Mesh, Rigid), ReconstructError> {
+    let prepared = Prepared::of(BodyGeometry::Mesh(mesh), opts);
     let seg = segment(prepared.geometry(), &prepared.options(opts).segment)?;
     let into = seg
         .frame
         .into_own_axes()
         .ok_or(ReconstructError::Frame { frame: seg.frame })?;
-    Ok((in_own_frame(body, &into, seg.height), into))
+    Ok((in_own_frame(mesh, &into, seg.height), into))
 }
 
 /// The input as the steps see it: a scan without its floor and strays, a
@@ -207,40 +192,27 @@ impl Body {
 /// sort by their other coordinates.
 const ORDER_QUANTUM: Real = 1e-9;
 
-/// `body` moved by `m`, its points sorted by height, then across, then
-/// front to back (in steps of [`ORDER_QUANTUM`] of `height`); a mesh's
+/// `mesh` moved by `m`, its vertices sorted by height, then across, then
+/// front to back (in steps of [`ORDER_QUANTUM`] of `height`), its
 /// triangles renumbered, each started at its lowest vertex (orientation
 /// kept) and sorted.
-pub(super) fn in_own_frame(body: BodyGeometry<'_>, m: &Rigid, height: Real) -> Owned {
-    let q = ORDER_QUANTUM * height;
-    match body {
-        BodyGeometry::Mesh(mesh) => {
-            let moved = m.mesh(mesh);
-            let order = sorted_order(&moved.positions, q);
-            let mut new_index = vec![0u32; order.len()];
-            for (new, &old) in order.iter().enumerate() {
-                new_index[old] = new as u32;
-            }
-            let mut triangles: Vec<[u32; 3]> = moved
-                .triangles
-                .iter()
-                .map(|t| lowest_first(t.map(|i| new_index[i as usize])))
-                .collect();
-            triangles.sort_unstable();
-            Owned::Mesh(Mesh {
-                positions: permuted(&moved.positions, &order),
-                normals: moved.normals.as_ref().map(|n| permuted(n, &order)),
-                triangles,
-            })
-        }
-        BodyGeometry::Cloud(cloud) => {
-            let moved = m.cloud(cloud);
-            let order = sorted_order(&moved.positions, q);
-            Owned::Cloud(PointCloud {
-                positions: permuted(&moved.positions, &order),
-                normals: moved.normals.as_ref().map(|n| permuted(n, &order)),
-            })
-        }
+pub(super) fn in_own_frame(mesh: &Mesh, m: &Rigid, height: Real) -> Mesh {
+    let moved = m.mesh(mesh);
+    let order = sorted_order(&moved.positions, ORDER_QUANTUM * height);
+    let mut new_index = vec![0u32; order.len()];
+    for (new, &old) in order.iter().enumerate() {
+        new_index[old] = new as u32;
+    }
+    let mut triangles: Vec<[u32; 3]> = moved
+        .triangles
+        .iter()
+        .map(|t| lowest_first(t.map(|i| new_index[i as usize])))
+        .collect();
+    triangles.sort_unstable();
+    Mesh {
+        positions: permuted(&moved.positions, &order),
+        normals: moved.normals.as_ref().map(|n| permuted(n, &order)),
+        triangles,
     }
 }
 
@@ -288,36 +260,15 @@ mod tests {
                 .collect(),
         };
         let m = Rigid::into_axes(Vec3::new(1.0, 2.0, 3.0), Vec3::X, Vec3::Y).unwrap();
-        let (Owned::Mesh(a), Owned::Mesh(b)) = (
-            in_own_frame(BodyGeometry::Mesh(&mesh), &m, 1.0),
-            in_own_frame(BodyGeometry::Mesh(&shuffled), &m, 1.0),
-        ) else {
-            panic!("meshes stay meshes");
-        };
+        let (a, b) = (
+            in_own_frame(&mesh, &m, 1.0),
+            in_own_frame(&shuffled, &m, 1.0),
+        );
         assert_eq!(a, b);
         // Moved: the centre at the origin; the orientation kept.
         let c = a.positions.iter().fold(Vec3::ZERO, |s, &p| s + p) / a.positions.len() as Real;
         assert!(c.norm() < 1e-12);
         assert!((a.signed_volume() - mesh.signed_volume()).abs() < 1e-12);
         assert!(a.triangles.iter().all(|t| t[0] < t[1] && t[0] < t[2]));
-    }
-
-    #[test]
-    fn a_cloud_is_sorted_by_height_then_across() {
-        let cloud = PointCloud {
-            positions: vec![
-                Vec3::new(1.0, 2.0, 0.0),
-                Vec3::new(-1.0, 2.0, 0.0),
-                Vec3::new(0.0, 1.0, 5.0),
-            ],
-            normals: Some(vec![Vec3::X, Vec3::Y, Vec3::Z]),
-        };
-        let Owned::Cloud(c) = in_own_frame(BodyGeometry::Cloud(&cloud), &Rigid::IDENTITY, 1.0)
-        else {
-            panic!("clouds stay clouds");
-        };
-        assert_eq!(c.positions[0], Vec3::new(0.0, 1.0, 5.0));
-        assert_eq!(c.positions[1], Vec3::new(-1.0, 2.0, 0.0));
-        assert_eq!(c.normals.unwrap(), vec![Vec3::Z, Vec3::Y, Vec3::X]);
     }
 }

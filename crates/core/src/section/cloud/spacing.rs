@@ -71,7 +71,7 @@ pub(super) fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real
         }
         Some(k) => medians[k],
     };
-    let noise: Vec<Real> = crate::geom::parallel::parallel_map(&ss, 64, |run| {
+    let mut noise: Vec<Real> = crate::geom::parallel::parallel_map(&ss, 64, |run| {
         run.iter()
             .filter_map(|&s| {
                 let i = s * n / samples;
@@ -84,7 +84,7 @@ pub(super) fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real
             })
             .collect()
     });
-    let noise = median(&mut noise.clone()).unwrap_or(0.0);
+    let noise = median(&mut noise).unwrap_or(0.0);
     (first > 0.0).then_some((2.0 * first).max(NOISE_CELLS * noise))
 }
 

@@ -33,8 +33,10 @@
 //!      (heel to toes), until the outline shrinks below
 //!      [`ReconstructOptions::sole_area_fraction`] of the largest (where the
 //!      sole curves up at heel and toes); a shallow dome from the last
-//!      outline down to the floor below its centre closes the sole (a flat
-//!      cap there would stand off the sole). The segmentation's
+//!      outline down to the foot's own bottom below its centre (the input's
+//!      lowest points under that outline, never below the floor: a foot
+//!      lifted by a bent knee ends above it) closes the sole (a flat cap
+//!      there would stand off the sole). The segmentation's
 //!      foot parts are reported as found and covered by the legs.
 //!
 //!    Sections whose loop cannot be cut or fitted are skipped with a
@@ -832,11 +834,13 @@ impl LimbPlans<'_> {
             &foot,
             warnings,
         ));
-        // The sole: a shallow dome from the last outline down to the floor
-        // below its centre.
+        // The sole: a shallow dome from the last outline down to the foot's
+        // own bottom below its centre (a foot lifted off the floor, a bent
+        // knee's, ends above it).
         let sole = cuts.last().map(|c| {
             let o = c.fit.curve.frame.origin;
-            o - up * (o.dot(up) - self.floor)
+            let level = sole_level(self.cutter.body(), &c.fit.curve, up, self.floor);
+            o - up * (o.dot(up) - level)
         });
         Plan {
             name,

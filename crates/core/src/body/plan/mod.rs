@@ -4,6 +4,7 @@
 use super::*;
 use crate::geom::parallel::parallel_map;
 use crate::geom::stats::median;
+use crate::section::mesh::point_in_polygon;
 
 mod build;
 pub(super) use build::*;
@@ -505,6 +506,28 @@ pub(super) fn extend_to_floor(
     a
 }
 
+/// The level along `up` of a foot's bottom under its last outline `c` (a
+/// horizontal curve): the lowest hundredth of the input's points below
+/// `c`'s plane whose projection falls inside it (a stray point or two
+/// does not count), never below `floor`; `floor` when none falls inside.
+pub(super) fn sole_level(body: BodyGeometry<'_>, c: &TrigCurve, up: Vec3, floor: Real) -> Real {
+    let outline = c.sample_plane(96);
+    let top = c.frame.origin.dot(up);
+    let mut below: Vec<Real> = body
+        .positions()
+        .iter()
+        .filter(|p| p.dot(up) < top)
+        .filter(|p| point_in_polygon(c.frame.to_plane(**p), &outline))
+        .map(|p| p.dot(up))
+        .collect();
+    if below.is_empty() {
+        return floor;
+    }
+    let k = below.len() / 100;
+    below.select_nth_unstable_by(k, Real::total_cmp);
+    below[k].max(floor)
+}
+
 /// The first arc-length fraction where the axis reaches `level` along `up`
 /// (going up when `rising`, down otherwise); 0 when it starts beyond it.
 pub(super) fn fraction_at_level(axis: &PartAxis, up: Vec3, level: Real, rising: bool) -> Real {
@@ -538,6 +561,7 @@ pub(super) fn landmark(seg: &Segmentation, kind: LandmarkKind) -> Option<Point3>
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::curve::trig::Frame;
     use crate::section::girth::polygon_tape_girth;
 
     /// A body 1.7 high (up = z, left = x) with a left arm hanging at 45°
@@ -632,6 +656,40 @@ mod tests {
             torso_without_arms(&seg, just_below.clone(), overlap).unwrap(),
             just_below
         );
+    }
+
+    /// A foot lifted 3 cm off the floor: its sole is its own lowest points
+    /// (a lone stray point below them does not count), not the floor; the
+    /// floor when nothing lies under the outline, and never below it.
+    #[test]
+    fn a_lifted_foot_keeps_its_own_sole() {
+        let up = Vec3::new(0.0, 1.0, 0.0);
+        let frame =
+            Frame::from_normal(Point3::new(0.0, 0.10, 0.0), up, Vec3::new(0.0, 0.0, 1.0)).unwrap();
+        let outline = TrigCurve::circle(frame, 0.05, 4);
+        // A column of points from y = 0.03 up to 0.15 inside the outline,
+        // and points beside it down to the floor at 0.
+        let mut pts = Vec::new();
+        for i in 0..=60 {
+            let y = 0.03 + 0.002 * i as Real;
+            for k in 0..12 {
+                let a = k as Real * std::f64::consts::TAU / 12.0;
+                pts.push(Point3::new(0.03 * a.cos(), y, 0.03 * a.sin()));
+                pts.push(Point3::new(0.2 + 0.03 * a.cos(), y - 0.03, 0.03 * a.sin()));
+            }
+        }
+        pts.push(Point3::new(0.0, 0.01, 0.0)); // a stray point under the foot
+        let cloud = PointCloud::new(pts).unwrap();
+        let body = BodyGeometry::Cloud(&cloud);
+        let level = sole_level(body, &outline, up, 0.0);
+        assert!((level - 0.03).abs() < 1e-12, "{level}");
+        assert_eq!(sole_level(body, &outline, up, 0.05), 0.05);
+        let away = TrigCurve::circle(
+            Frame::from_normal(Point3::new(1.0, 0.1, 0.0), up, Vec3::new(0.0, 0.0, 1.0)).unwrap(),
+            0.05,
+            4,
+        );
+        assert_eq!(sole_level(body, &away, up, -0.01), -0.01);
     }
 
     /// A loop with two narrow bumps (a bust seen from above): the fit at

@@ -3,6 +3,7 @@
 //! uses.
 
 use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::stats::nth_smallest;
 use thiserror::Error;
 
 /// An indexed triangle mesh with f64 positions and optional per-vertex normals.
@@ -342,8 +343,8 @@ pub fn central_extent(points: &[Point3], tail: usize) -> Option<Real> {
         }
         let lo = v.len() / tail.max(1);
         let hi = v.len() - 1 - lo;
-        let low = *v.select_nth_unstable_by(lo, Real::total_cmp).1;
-        let high = *v.select_nth_unstable_by(hi, Real::total_cmp).1;
+        let low = nth_smallest(&mut v, lo)?;
+        let high = nth_smallest(&mut v, hi)?;
         side = side.max(high - low);
     }
     Some(side)

@@ -6,8 +6,14 @@ use crate::geom::math::Real;
 /// count), by a selection in linear time: `v` is reordered. `None` when
 /// `v` is empty. The same element as `sorted[v.len() / 2]`.
 pub fn median(v: &mut [Real]) -> Option<Real> {
-    let k = v.len() / 2;
-    (!v.is_empty()).then(|| *v.select_nth_unstable_by(k, Real::total_cmp).1)
+    nth_smallest(v, v.len() / 2)
+}
+
+/// The `k`-th smallest value of `v` (from 0) in `total_cmp` order, by a
+/// selection in linear time: `v` is reordered. `None` when `k` is past the
+/// end. The same element as `sorted[k]`.
+pub fn nth_smallest(v: &mut [Real], k: usize) -> Option<Real> {
+    (k < v.len()).then(|| *v.select_nth_unstable_by(k, Real::total_cmp).1)
 }
 
 #[cfg(test)]
@@ -25,5 +31,8 @@ mod tests {
         let mut sorted = v.clone();
         sorted.sort_by(Real::total_cmp);
         assert_eq!(median(&mut v), Some(sorted[50]));
+        assert_eq!(nth_smallest(&mut v, 0), Some(0.0));
+        assert_eq!(nth_smallest(&mut v, 100), Some(100.0));
+        assert_eq!(nth_smallest(&mut v, 101), None);
     }
 }

@@ -49,7 +49,7 @@
 use crate::curve::trig::Frame;
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::{Mesh, MeshError};
-use crate::geom::stats::median;
+use crate::geom::stats::{median, nth_smallest};
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
@@ -460,11 +460,7 @@ impl<'m> MeshSlicer<'m> {
             })
             .collect();
         let k = ((spans.len() * 9) / 10).min(spans.len().saturating_sub(1));
-        let p90 = if spans.is_empty() {
-            0.0
-        } else {
-            *spans.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1
-        };
+        let p90 = nth_smallest(&mut spans, k).unwrap_or(0.0);
         let limit = 8.0 * p90;
         let mut short: Vec<(Real, u32)> = Vec::with_capacity(mesh.triangles.len());
         let mut tall = Vec::new();

@@ -35,7 +35,7 @@ use std::borrow::Cow;
 use crate::geom::linalg::principal;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{central_extent, PointCloud};
-use crate::geom::stats::median;
+use crate::geom::stats::{median, nth_smallest};
 
 /// Options of [`clean_cloud`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -278,7 +278,7 @@ fn floor_along(pts: &[Point3], n: Vec3, extent: Real, cell: Real) -> Option<Floo
         return None;
     }
     let k = above.len() - 1 - above.len() / 1000;
-    let reach = *above.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1 - top;
+    let reach = nth_smallest(&mut above, k)? - top;
     if reach < 0.5 * extent {
         return None;
     }
@@ -311,9 +311,9 @@ fn low_band(pts: &[Point3], n: Vec3, extent: Real, bin: Real) -> Option<Real> {
         return None;
     }
     let k = h.len() / 1000;
-    let lo = *h.select_nth_unstable_by(k, |a, b| a.total_cmp(b)).1;
+    let lo = nth_smallest(&mut h, k)?;
     let hi_k = h.len() - 1 - k;
-    let hi = *h.select_nth_unstable_by(hi_k, |a, b| a.total_cmp(b)).1;
+    let hi = nth_smallest(&mut h, hi_k)?;
     let start = lo - 2.0 * bin;
     let span = (hi - lo).max(extent * 0.01);
     let bins = ((0.15 * span + 2.0 * bin) / bin).ceil() as usize + 1;

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::geom::parallel::parallel_map;
-use crate::geom::stats::median;
+use crate::geom::stats::{median, nth_smallest};
 use crate::section::mesh::point_in_polygon;
 
 mod build;
@@ -189,10 +189,11 @@ pub(super) fn torso_without_arms(
         let step = (axis.points.len() / 24).max(1);
         // The loop projected once, not once per axis point (`contains`).
         let poly = out.plane_points();
-        let runs_out = axis.points.iter().step_by(step).any(|&p| {
-            (p - a).dot(d) > reach
-                && crate::section::mesh::point_in_polygon(out.frame.to_plane(p), &poly)
-        });
+        let runs_out = axis
+            .points
+            .iter()
+            .step_by(step)
+            .any(|&p| (p - a).dot(d) > reach && point_in_polygon(out.frame.to_plane(p), &poly));
         let level = (out.frame.origin - a).dot(seg.frame.up) / seg.height;
         let side =
             hanging_shoulder(seg, arm).filter(|_| shoulders.side_of(arm) && level >= -SIDE_BELOW);
@@ -520,12 +521,8 @@ pub(super) fn sole_level(body: BodyGeometry<'_>, c: &TrigCurve, up: Vec3, floor:
         .filter(|p| point_in_polygon(c.frame.to_plane(**p), &outline))
         .map(|p| p.dot(up))
         .collect();
-    if below.is_empty() {
-        return floor;
-    }
     let k = below.len() / 100;
-    below.select_nth_unstable_by(k, Real::total_cmp);
-    below[k].max(floor)
+    nth_smallest(&mut below, k).map_or(floor, |b| b.max(floor))
 }
 
 /// The first arc-length fraction where the axis reaches `level` along `up`

@@ -584,32 +584,9 @@ fn reconstruct_steps(
         leg_top: crotch_level - margin,
     };
     let mut shoulders = Shoulders::of(&seg);
-    let mut plans = Vec::new();
-    // Every part but the feet, which the legs cover (shoe ends).
-    let feet = [PartName::LeftFoot, PartName::RightFoot];
-    for name in PartName::ALL.into_iter().filter(|n| !feet.contains(n)) {
-        let Some(axis) = seg.part(name) else {
-            warnings.push(format!("{name} not found: left out of the model"));
-            continue;
-        };
-        progress(&format!("sections: {name}"));
-        let len = axis.length();
-        if !(len > 0.0) {
-            warnings.push(format!("{name}: axis of zero length, left out"));
-            continue;
-        }
-        let step = opts.spacing * h / len;
-        let plan = match name {
-            PartName::Torso => match torso_plan(shoulders, &mut warnings) {
-                Some(plan) => plan,
-                None => continue,
-            },
-            PartName::Head => limbs.head(axis, step, &mut warnings),
-            PartName::LeftArm | PartName::RightArm => limbs.arm(name, axis, step, &mut warnings),
-            _ => limbs.leg(name, axis, step, &mut warnings),
-        };
-        plans.push(plan);
-    }
+    // The torso is planned after the arms are built: its loops stop at
+    // their first sections.
+    let (plans, with_torso) = limbs.plans(progress, &mut warnings);
 
     progress("skinning");
     let input = match body {
@@ -622,10 +599,27 @@ fn reconstruct_steps(
         progress(&format!("skinning and refining: {name}"));
         match refine(&cutter, plan, opts, &input, &mut warnings) {
             Ok(p) => parts.push(p),
-            Err(e) if name != PartName::Torso => {
-                warnings.push(format!("{name} left out: {e}"));
-            }
-            Err(e) => return Err(e),
+            Err(e) => warnings.push(format!("{name} left out: {e}")),
+        }
+    }
+    if with_torso {
+        for (s, arm) in [PartName::LeftArm, PartName::RightArm]
+            .into_iter()
+            .enumerate()
+        {
+            let first = parts.iter().find(|p| p.name == arm);
+            shoulders.start[s] = first.and_then(|p| p.fits.first()).map(|f| f.at);
+        }
+        progress("sections: torso");
+        let plan = torso_plan(shoulders, &mut warnings);
+        progress("skinning and refining: torso");
+        if let Some(plan) = plan {
+            let torso = refine(&cutter, plan, opts, &input, &mut warnings)?;
+            let k = parts
+                .iter()
+                .take_while(|p| p.name < PartName::Torso)
+                .count();
+            parts.insert(k, torso);
         }
     }
     progress("transitions");
@@ -742,6 +736,42 @@ struct LimbPlans<'a> {
 }
 
 impl LimbPlans<'_> {
+    /// Every part's plan but the torso's and the feet's (the legs cover
+    /// them with shoe ends), in [`PartName::ALL`]'s order, and whether the
+    /// segmentation has a torso to plan after them.
+    fn plans(
+        &self,
+        progress: &mut dyn FnMut(&str),
+        warnings: &mut Vec<String>,
+    ) -> (Vec<Plan>, bool) {
+        let mut plans = Vec::new();
+        let mut with_torso = false;
+        let feet = [PartName::LeftFoot, PartName::RightFoot];
+        for name in PartName::ALL.into_iter().filter(|n| !feet.contains(n)) {
+            let Some(axis) = self.seg.part(name) else {
+                warnings.push(format!("{name} not found: left out of the model"));
+                continue;
+            };
+            let len = axis.length();
+            if !(len > 0.0) {
+                warnings.push(format!("{name}: axis of zero length, left out"));
+                continue;
+            }
+            if name == PartName::Torso {
+                with_torso = true;
+                continue;
+            }
+            progress(&format!("sections: {name}"));
+            let step = self.opts.spacing * self.seg.height / len;
+            plans.push(match name {
+                PartName::Head => self.head(axis, step, warnings),
+                PartName::LeftArm | PartName::RightArm => self.arm(name, axis, step, warnings),
+                _ => self.leg(name, axis, step, warnings),
+            });
+        }
+        (plans, with_torso)
+    }
+
     /// The head: from the neck to a rounded top closed by a dome.
     fn head(&self, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
         let name = PartName::Head;

@@ -128,12 +128,16 @@ fn with_tape_girth(
     best.1
 }
 
-/// A torso loop that runs out along an arm (arms held out sideways, where
-/// a horizontal cut meets the arm lengthwise) is clipped at the arm's
-/// boundary plane: through the armpit, normal to the arm's direction
-/// (armpit → wrist). It runs out along the arm when it encloses (in its
-/// plane) a point of the arm's axis lying more than a quarter of the arm's
-/// length (and one arm diameter) beyond that plane.
+/// A torso loop below the armpit that runs out along an arm (arms held
+/// out sideways, where a horizontal cut meets the arm lengthwise) is
+/// clipped at the arm's boundary plane: through the armpit, normal to the
+/// arm's direction (armpit → wrist). It runs out along the arm when it
+/// encloses (in its plane) a point of the arm's axis lying more than a
+/// quarter of the arm's length (and one arm diameter) beyond that plane.
+/// Above the armpit that plane would cut the shoulder off short of the
+/// arm's first section and leave a flange between them, so such a loop is
+/// clipped at the first section instead (below), unless the arm ends on
+/// the torso's side.
 ///
 /// A hanging arm's axis never projects into a torso loop, but above the
 /// armpit a horizontal cut still meets the arm's root obliquely and runs a
@@ -150,12 +154,13 @@ fn with_tape_girth(
 ///   space `(p − a − δ H n)·n > 0` is left out. The transition starts on
 ///   the torso's surface in the side plane itself and covers the straight
 ///   side;
-/// * otherwise (an arm held out part way, or one whose transition strayed
-///   from the input): at the plane of the arm's first section (normal
-///   `t₀`, the axis tangent at its shoulder end `p₀`) moved
-///   [`SHOULDER_OVERLAP`] into the arm, `(p − p₀ − δ H t₀)·t₀ > 0` left
-///   out: the arm's own sections model what lies past its first one, and
-///   the torso's straight side sits inside the arm's tube.
+/// * otherwise (an arm held out part way or raised, or one whose
+///   transition strayed from the input): at the plane of the arm's first
+///   built section (normal `t₀`, the axis tangent at `p₀`, the axis point
+///   at [`Shoulders::start`]) moved [`SHOULDER_OVERLAP`] into the arm,
+///   `(p − p₀ − δ H t₀)·t₀ > 0` left out: the arm's own sections model
+///   what lies past its first one, and the torso's straight side sits
+///   inside the arm's tube.
 pub(super) fn torso_without_arms(
     seg: &Segmentation,
     outline: SectionLoop,
@@ -197,7 +202,7 @@ pub(super) fn torso_without_arms(
         let level = (out.frame.origin - a).dot(seg.frame.up) / seg.height;
         let side =
             hanging_shoulder(seg, arm).filter(|_| shoulders.side_of(arm) && level >= -SIDE_BELOW);
-        if runs_out {
+        if runs_out && !(level >= 0.0 && side.is_none()) {
             out = out.clipped(a, d)?;
         } else if let Some(sh) = side {
             // The arm's transition ends on the torso's shoulder, cut by
@@ -208,12 +213,12 @@ pub(super) fn torso_without_arms(
             let reach = SIDE_OVERLAP * (level / SIDE_RAMP).clamp(0.0, 1.0);
             out = out.clipped(sh.armpit + sh.normal * (reach * seg.height), sh.normal)?;
         } else if level >= 0.0 {
-            // No side transition: the torso's loop stops where the arm
-            // starts (its first section, the shoulder end of its axis),
-            // reaching SHOULDER_OVERLAP into it so that the straight side
-            // lies inside the arm's tube. (Below the armpit the arm is a
-            // loop of its own.)
-            if let Some((p0, t0)) = axis.point_and_tangent(0.0) {
+            // No side transition: the torso's loop stops where the arm's
+            // tube starts (its first built section), reaching
+            // SHOULDER_OVERLAP into it so that the straight side lies
+            // inside the tube. (Below the armpit the arm is a loop of its
+            // own.)
+            if let Some((p0, t0)) = axis.point_and_tangent(shoulders.start_of(arm)) {
                 out = out.clipped(p0 + t0 * (SHOULDER_OVERLAP * seg.height), t0)?;
             }
         }
@@ -250,6 +255,11 @@ pub(super) const SIDE_BELOW: Real = 0.005;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) struct Shoulders {
     pub(super) side: [bool; 2],
+    /// Each arm's first built section (left, right): the fraction along
+    /// its axis where its tube starts, known once the arm is built (the
+    /// torso is built after the arms). A torso loop that reaches into the
+    /// arm stops just past it (`None`: the axis' shoulder end).
+    pub(super) start: [Option<Real>; 2],
 }
 
 impl Shoulders {
@@ -258,7 +268,18 @@ impl Shoulders {
         Shoulders {
             side: [PartName::LeftArm, PartName::RightArm]
                 .map(|a| hanging_shoulder(seg, a).is_some()),
+            start: [None; 2],
         }
+    }
+
+    /// Where `arm`'s tube starts (see [`Shoulders::start`]).
+    pub(super) fn start_of(self, arm: PartName) -> Real {
+        let k = match arm {
+            PartName::LeftArm => 0,
+            PartName::RightArm => 1,
+            _ => return 0.0,
+        };
+        self.start[k].unwrap_or(0.0)
     }
 
     /// Whether `arm` ends on the torso's side.
@@ -561,6 +582,32 @@ mod tests {
     use crate::curve::trig::Frame;
     use crate::section::girth::polygon_tape_girth;
 
+    /// A body `h` high (up = z, left = x) whose only part is a left arm
+    /// 0.5 long from `p0` along `t0`, with its armpit and wrist.
+    fn one_arm(h: Real, p0: Point3, t0: Vec3, armpit: Point3) -> Segmentation {
+        let landmark = |kind, position: Point3| crate::anatomy::Landmark {
+            kind,
+            position,
+            height_fraction: position.z / h,
+            confidence: 1.0,
+            how: "test",
+        };
+        Segmentation::z_up(
+            h,
+            vec![
+                landmark(LandmarkKind::LeftArmpit, armpit),
+                landmark(LandmarkKind::LeftWrist, p0 + t0 * 0.5),
+            ],
+            vec![PartAxis {
+                name: PartName::LeftArm,
+                points: (0..=50).map(|i| p0 + t0 * (0.01 * i as Real)).collect(),
+                radii: vec![0.045; 51],
+                start: LandmarkKind::LeftShoulder,
+                end: LandmarkKind::LeftHandTip,
+            }],
+        )
+    }
+
     /// A body 1.7 high (up = z, left = x) with a left arm hanging at 45°
     /// from a shoulder end at (0.2, 0, 1.3), its armpit at 1.27: a torso
     /// loop above the armpit that runs out to ±0.26 loses what lies past
@@ -572,30 +619,9 @@ mod tests {
     #[test]
     fn a_torso_loop_above_the_armpit_stops_inside_the_hanging_arm() {
         let h = 1.7;
-        let landmark = |kind, position: Point3| crate::anatomy::Landmark {
-            kind,
-            position,
-            height_fraction: position.z / h,
-            confidence: 1.0,
-            how: "test",
-        };
         let p0 = Point3::new(0.2, 0.0, 1.3);
         let t0 = Vec3::new(1.0, 0.0, -1.0).normalized().unwrap();
-        let wrist = p0 + t0 * 0.5;
-        let seg = Segmentation::z_up(
-            h,
-            vec![
-                landmark(LandmarkKind::LeftArmpit, Point3::new(0.18, 0.0, 1.27)),
-                landmark(LandmarkKind::LeftWrist, wrist),
-            ],
-            vec![PartAxis {
-                name: PartName::LeftArm,
-                points: (0..=50).map(|i| p0 + t0 * (0.01 * i as Real)).collect(),
-                radii: vec![0.045; 51],
-                start: LandmarkKind::LeftShoulder,
-                end: LandmarkKind::LeftHandTip,
-            }],
-        );
+        let seg = one_arm(h, p0, t0, Point3::new(0.18, 0.0, 1.27));
         let stadium = |z: Real, half: Real| {
             let points: Vec<Point3> = (0..400)
                 .map(|i| {
@@ -615,7 +641,7 @@ mod tests {
         };
         // Above the armpit: the plane (p − p₀ − δ t₀)·t₀ = 0 meets z = 1.29
         // at x = 0.2 + δ √2 + (1.29 − 1.3) (45°: one to one).
-        let overlap = Shoulders { side: [false; 2] };
+        let overlap = Shoulders::default();
         let above = torso_without_arms(&seg, stadium(1.29, 0.26), overlap).unwrap();
         let origin = p0 + t0 * (SHOULDER_OVERLAP * h);
         let (lo, hi) = extent(&above);
@@ -653,6 +679,47 @@ mod tests {
             torso_without_arms(&seg, just_below.clone(), overlap).unwrap(),
             just_below
         );
+    }
+
+    /// A left arm held out nearly level (no side transition) whose first
+    /// built section lies a fifth along its axis: a torso loop above the
+    /// armpit that runs out along the arm stops just past that section,
+    /// one below the armpit at the boundary plane through the armpit.
+    #[test]
+    fn a_torso_loop_along_a_held_out_arm_stops_at_its_first_section() {
+        let h = 1.7;
+        let p0 = Point3::new(0.2, 0.0, 1.3);
+        let t0 = Vec3::new(1.0, 0.0, -0.1).normalized().unwrap();
+        let armpit = Point3::new(0.18, 0.0, 1.27);
+        let wrist = p0 + t0 * 0.5;
+        let seg = one_arm(h, p0, t0, armpit);
+        let slab = |z: Real| {
+            let points: Vec<Point3> = (0..400)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * i as Real / 400.0;
+                    Point3::new(0.6 * t.cos(), 0.1 * t.sin(), z)
+                })
+                .collect();
+            SectionLoop::from_points(points, Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0))
+                .unwrap()
+        };
+        let shoulders = Shoulders {
+            side: [false; 2],
+            start: [Some(0.2), None],
+        };
+        assert!(hanging_shoulder(&seg, PartName::LeftArm).is_none());
+        // How far the clipped loop at `z` reaches past the plane through
+        // `origin` with normal `n`: zero when the plane cut it.
+        let reach = |z: Real, origin: Point3, n: Vec3| {
+            let clipped = torso_without_arms(&seg, slab(z), shoulders).unwrap();
+            let past = clipped.points.iter().map(|&p| (p - origin).dot(n));
+            past.fold(Real::NEG_INFINITY, Real::max)
+        };
+        let first = p0 + t0 * (0.2 * 0.5 + SHOULDER_OVERLAP * h);
+        let above = reach(1.29, first, t0);
+        assert!(above <= 1e-12 && above > -1e-3, "{above}");
+        let below = reach(1.25, armpit, (wrist - armpit).normalized().unwrap());
+        assert!(below <= 1e-12 && below > -1e-3, "{below}");
     }
 
     /// A foot lifted 3 cm off the floor: its sole is its own lowest points

@@ -483,7 +483,10 @@ impl Part {
         }
 
         let segments = match options.skinning {
-            Skinning::CatmullRom => catmull_rom(&world, &knots)?,
+            Skinning::CatmullRom => {
+                let normals: Vec<Vec3> = curves.iter().map(|c| c.frame.normal()).collect();
+                catmull_rom(&world, &knots, &normals)?
+            }
             Skinning::NaturalSpline => natural_spline(&world, &knots)?,
             Skinning::PaperChained => paper(&world, &knots, options, true)?,
             Skinning::PaperUnchained => paper(&world, &knots, options, false)?,
@@ -623,7 +626,17 @@ fn patch_err(segment: usize) -> impl Fn(PatchError) -> PartError {
 }
 
 /// Cubic Hermite segments with the non-uniform Catmull-Rom (Bessel) tangents.
-fn catmull_rom(world: &[SpaceCurve], knots: &[Real]) -> Result<Vec<Segment>, PartError> {
+/// An end's tangent (the derivative of the parabola through the last three
+/// curves) is the last chord's instead where the two cross the end curve's
+/// plane (`normals`) in opposite directions: with uneven knots (a foot's
+/// outlines, whose centres shift from heel to toe) the parabola can turn
+/// back through the end plane, and the skin and its end cap fold back
+/// into the part.
+fn catmull_rom(
+    world: &[SpaceCurve],
+    knots: &[Real],
+    normals: &[Vec3],
+) -> Result<Vec<Segment>, PartError> {
     let order = common_order(world);
     let p: Vec<Vec<Real>> = world.iter().map(|c| flatten(c, order)).collect();
     let n = p.len();
@@ -638,10 +651,12 @@ fn catmull_rom(world: &[SpaceCurve], knots: &[Real]) -> Result<Vec<Segment>, Par
             } else if k == 0 {
                 // Derivative at s_0 of the parabola through curves 0, 1, 2.
                 let q = h[0] / (h[0] + h[1]);
-                combine(&[(1.0 + q, &d[0]), (-q, &d[1])])
+                let t = combine(&[(1.0 + q, &d[0]), (-q, &d[1])]);
+                unless_folding(t, &d[0], normals[0], order)
             } else if k == n - 1 {
                 let q = h[n - 2] / (h[n - 3] + h[n - 2]);
-                combine(&[(1.0 + q, &d[n - 2]), (-q, &d[n - 3])])
+                let t = combine(&[(1.0 + q, &d[n - 2]), (-q, &d[n - 3])]);
+                unless_folding(t, &d[n - 2], normals[n - 1], order)
             } else {
                 let w = h[k - 1] + h[k];
                 combine(&[(h[k] / w, &d[k - 1]), (h[k - 1] / w, &d[k])])
@@ -660,6 +675,19 @@ fn catmull_rom(world: &[SpaceCurve], knots: &[Real]) -> Result<Vec<Segment>, Par
             })
         })
         .collect()
+}
+
+/// `tangent` (flattened coefficients), or `chord` where their mean
+/// motions (the constant coefficients) cross the plane with `normal` in
+/// opposite directions.
+fn unless_folding(tangent: Vec<Real>, chord: &[Real], normal: Vec3, order: usize) -> Vec<Real> {
+    let n = 2 * order + 1;
+    let along = |v: &[Real]| Vec3::new(v[0], v[n], v[2 * n]).dot(normal);
+    if along(&tangent) * along(chord) < 0.0 {
+        chord.to_vec()
+    } else {
+        tangent
+    }
 }
 
 /// The natural cubic spline (C2, zero second derivative at both ends) through
@@ -765,8 +793,8 @@ fn paper(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::assert_near;
     use crate::curve::trig::Frame;
+    use crate::{assert_near, assert_vec_near};
 
     /// Sections of a wavy tube along +z at uneven spacing.
     fn wavy(n: usize, order: usize) -> Vec<TrigCurve> {
@@ -840,6 +868,40 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Three level circles going down, the last a short step down and a
+    /// long one sideways (a foot's outlines from heel to toe): the
+    /// parabola's end derivative would rise back through the last plane
+    /// (z +0.46 per unit); the skin leaves along the last chord instead,
+    /// and its dome points down. Both ends, either way round.
+    #[test]
+    fn an_end_tangent_never_turns_back_through_the_end_plane() {
+        let circle = |x: Real, z: Real| {
+            let frame = Frame {
+                origin: Vec3::new(x, 0.0, z),
+                e1: Vec3::Y,
+                e2: Vec3::X,
+            };
+            TrigCurve::new(frame, vec![0.0, 0.05, 0.0], vec![0.0, 0.05, 0.0]).unwrap()
+        };
+        let down = vec![circle(0.0, 0.0), circle(0.0, -0.01), circle(0.03, -0.015)];
+        let opts = PartOptions {
+            end_cap: CapKind::dome(),
+            ..PartOptions::default()
+        };
+        let part = Part::new(down.clone(), &opts).unwrap();
+        let t = part.end_tangent(false);
+        let chord = Vec3::new(0.03, 0.0, -0.005).normalized().unwrap();
+        let mean = Vec3::new(t.x.c[0], t.y.c[0], t.z.c[0]);
+        assert_vec_near!(mean, chord, 1e-12);
+        assert!(part.end_cap().unwrap().apex.z < -0.015);
+        // Reversed, the same at the start.
+        let up: Vec<TrigCurve> = down.into_iter().rev().collect();
+        let part = Part::new(up, &opts).unwrap();
+        let t = part.end_tangent(true);
+        let mean = Vec3::new(t.x.c[0], t.y.c[0], t.z.c[0]);
+        assert_vec_near!(mean, chord, 1e-12);
     }
 
     #[test]

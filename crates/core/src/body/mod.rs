@@ -74,7 +74,7 @@ use crate::segment::{segment, Cutter, PartAxis, SegmentError, SegmentOptions, Se
 use crate::spatial::cloud_clean::CleanOptions;
 use crate::spatial::distance::{sample_surface, DistanceStats, MeshDistance};
 use crate::spatial::point_grid::PointGrid;
-use crate::surface::cap::CapKind;
+use crate::surface::cap::{CapKind, DomeAxis};
 use crate::surface::part::{Part, PartError, PartOptions};
 use crate::surface::pieces::{tessellate_pieces, Piece};
 use crate::surface::tessellate::{TessellateError, TessellationOptions};
@@ -866,7 +866,9 @@ impl LimbPlans<'_> {
         ));
         // The sole: a shallow dome from the last outline down to the foot's
         // own bottom below its centre (a foot lifted off the floor, a bent
-        // knee's, ends above it).
+        // knee's, ends above it), along the outline's normal: the outlines'
+        // centres shift from heel to toe, so the end tangent leans forward
+        // or back and a dome along it runs sideways, not down.
         let sole = cuts.last().map(|c| {
             let o = c.fit.curve.frame.origin;
             let level = sole_level(self.cutter.body(), &c.fit.curve, up, self.floor);
@@ -876,7 +878,11 @@ impl LimbPlans<'_> {
             name,
             cuts,
             start_cap: CapKind::Open,
-            end_cap: CapKind::Flat,
+            end_cap: CapKind::Dome {
+                relative_height: 0.0,
+                fullness: 1.0,
+                axis: DomeAxis::Normal,
+            },
             tip: sole,
             shoulders: Shoulders::default(),
         }

@@ -31,9 +31,9 @@ fn out_dir(name: &str) -> PathBuf {
 }
 
 /// (input, pose class, RMS limit mm, wrists checked; ankles always are,
-/// within 30 mm) — meshes 1.5-3.3 mm now, scans 3.6-6.3 mm (100 000
+/// within 30 mm) — meshes 1.5-3.3 mm now, scans 3.6-6.5 mm (100 000
 /// samples; the test takes 30 000).
-const CASES: [(&str, &str, f64, bool); 20] = [
+const CASES: [(&str, &str, f64, bool); 21] = [
     ("body_019", "a", 2.4, true),
     ("body_012", "close", 2.7, true),
     ("body_026", "wide", 2.1, true),
@@ -58,6 +58,10 @@ const CASES: [(&str, &str, f64, bool); 20] = [
     // over the shoulder: 4.4 and 6.6 mm).
     ("body_005", "wide", 2.1, true),
     ("body_001", "raised", 4.2, true),
+    // A heavy body whose arms run out in the torso's loops below the
+    // armpit: those loops end on the arm's first section too, as the
+    // ones above do (a flange across the armpit: 4.0 mm).
+    ("body_015", "a", 2.5, true),
     // A bent knee lifts one foot off the floor: its sole dome must stop at
     // the foot, not at the floor (3.5 mm with the floor's). Every sole dome
     // goes down along the outline's normal (1.7 mm along the end tangent).
@@ -65,13 +69,14 @@ const CASES: [(&str, &str, f64, bool); 20] = [
     // A floor and stray points, arms close.
     ("body_003_scan", "close", 5.8, true),
     // A floor and stray points, T-pose.
-    ("body_000_scan", "t", 5.9, true),
+    ("body_000_scan", "t", 5.3, true),
     // A missed head top.
     ("body_009_scan", "a", 7.5, true),
     // Raised arms in a scan: the head kept between them (46 mm without
     // it), the bent forearms followed on the cloud's surface graph (21 mm
-    // without, a wrist 0.26 m off).
-    ("body_010_scan", "raised", 7.9, true),
+    // without, a wrist 0.26 m off), the torso's top sections kept though
+    // their straight sides run through the arms' roots (6.3 mm dropped).
+    ("body_010_scan", "raised", 5.2, true),
     // Arms out wide in a scan, the hands found on the surface graph.
     ("body_005_scan", "wide", 4.5, true),
 ];

@@ -607,8 +607,13 @@ fn reconstruct_steps(
             .into_iter()
             .enumerate()
         {
-            let first = parts.iter().find(|p| p.name == arm);
-            shoulders.start[s] = first.and_then(|p| p.fits.first()).map(|f| f.at);
+            let Some(part) = parts.iter().find(|p| p.name == arm) else {
+                continue;
+            };
+            shoulders.start[s] = part.fits.first().map(|f| f.at);
+            if let Some(c) = part.part.sections().first() {
+                shoulders.radius[s] = (c.area().abs() / std::f64::consts::PI).sqrt();
+            }
         }
         progress("sections: torso");
         let plan = torso_plan(shoulders, &mut warnings);

@@ -439,13 +439,22 @@ impl InputDistance<'_> {
 /// The 75th percentile of the distances from 64 points of a section's
 /// curve to the input: a curve fitted to a wrongly joined loop (a scan
 /// slab's arcs joined across a hole) has long stretches away from it.
-/// (A loop clipped at an arm, [`torso_without_arms`], whose straight side
-/// runs far inside the body is dropped by the same rule: kept, its side
-/// would show as a wall in the armpit.)
-pub(in crate::body) fn curve_offset(c: &Cut, input: &InputDistance) -> Real {
-    let mut d = input.distances(&c.fit.curve.sample(64));
+/// The points of a torso loop's straight side that the arm's tube hides
+/// ([`Clip::hides`], within `on_clip` of its plane) are left out: that
+/// side runs through the arm's root by design. The rest of the side
+/// counts: where it lies outside the tube (across the chest or through an
+/// armpit) it would show as a wall.
+pub(in crate::body) fn curve_offset(c: &Cut, input: &InputDistance, on_clip: Real) -> Real {
+    let points: Vec<Point3> = c
+        .fit
+        .curve
+        .sample(64)
+        .into_iter()
+        .filter(|&p| !c.clips.iter().any(|k| k.hides(p, on_clip)))
+        .collect();
+    let mut d = input.distances(&points);
     d.sort_by(Real::total_cmp);
-    d[48]
+    d.get(d.len() * 3 / 4).copied().unwrap_or(0.0)
 }
 
 /// `n` points of a space curve at `v_i = 2π i/n`, all three series summed
@@ -622,8 +631,11 @@ pub(in crate::body) fn refine(
     let name = plan.name;
     let (start_cap, tip, shoulders) = (plan.start_cap, plan.tip, plan.shoulders);
     let far = opts.max_curve_offset * seg.height;
+    // How far a fitted curve may stray from its loop's straight side and
+    // still be on it.
+    let on_clip = 0.5 * far;
     plan.cuts.retain(|c| {
-        let off = curve_offset(c, input);
+        let off = curve_offset(c, input, on_clip);
         if off > far {
             warnings.push(format!(
                 "{name}: section at {:.3} dropped (a quarter of its curve lies {:.1} mm or more from the input)",
@@ -682,7 +694,7 @@ pub(in crate::body) fn refine(
                     let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
                     let plausible =
                         c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
-                    (plausible && curve_offset(&c, input) <= far).then_some(c)
+                    (plausible && curve_offset(&c, input, on_clip) <= far).then_some(c)
                 })
                 .collect()
         });

@@ -14,6 +14,33 @@ pub(super) struct Cut {
     pub(super) at: Real,
     pub(super) fit: LoopFit,
     pub(super) area: Real,
+    /// Where a torso loop was clipped at an arm's first section
+    /// ([`torso_without_arms`]).
+    pub(super) clips: Vec<Clip>,
+}
+
+/// A plane a torso loop was clipped at, just inside an arm's first
+/// section: the loop's straight side there lies inside the arm's tube
+/// where it is within the tube's radius of the arm's axis, and is hidden
+/// by design; the rest of it is skin.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Clip {
+    /// A point of the plane and its normal (pointing along the arm).
+    pub(super) origin: Point3,
+    pub(super) normal: Vec3,
+    /// The arm's axis point at its first section, and that section's
+    /// mean radius `√(A/π)`.
+    pub(super) centre: Point3,
+    pub(super) radius: Real,
+}
+
+impl Clip {
+    /// Whether `p` lies on the plane (within `tol`) inside the arm's tube.
+    pub(super) fn hides(&self, p: Point3, tol: Real) -> bool {
+        let r = p - self.centre;
+        let across = r - self.normal * r.dot(self.normal);
+        (p - self.origin).dot(self.normal).abs() < tol && across.norm() <= self.radius
+    }
 }
 
 /// Cuts and fits `part` at `at` (through the cutter's shared slicers).
@@ -35,8 +62,9 @@ pub(super) fn cut_and_fit(
     let mut cut = cutter
         .cut(name, at, normal, true, &opts.segment)
         .map_err(|e| e.to_string())?;
+    let mut clips = Vec::new();
     if name == PartName::Torso {
-        cut.outline = torso_without_arms(seg, cut.outline, shoulders)
+        cut.outline = torso_without_arms(seg, cut.outline, shoulders, &mut clips)
             .ok_or_else(|| "nothing of the torso is left beside the arms".to_string())?;
     }
     let base = FitOptions {
@@ -76,6 +104,7 @@ pub(super) fn cut_and_fit(
         at,
         fit,
         area: cut.outline.area,
+        clips,
     })
 }
 
@@ -128,16 +157,19 @@ fn with_tape_girth(
     best.1
 }
 
-/// A torso loop below the armpit that runs out along an arm (arms held
-/// out sideways, where a horizontal cut meets the arm lengthwise) is
-/// clipped at the arm's boundary plane: through the armpit, normal to the
-/// arm's direction (armpit → wrist). It runs out along the arm when it
-/// encloses (in its plane) a point of the arm's axis lying more than a
-/// quarter of the arm's length (and one arm diameter) beyond that plane.
-/// Above the armpit that plane would cut the shoulder off short of the
-/// arm's first section and leave a flange between them, so such a loop is
-/// clipped at the first section instead (below), unless the arm ends on
-/// the torso's side.
+/// A torso loop runs out along an arm (arms held out sideways, where a
+/// horizontal cut meets the arm lengthwise) when it encloses (in its
+/// plane) a point of the arm's axis lying more than a quarter of the
+/// arm's length (and one arm diameter) beyond the arm's boundary plane
+/// (through the armpit, normal to the arm's direction armpit → wrist).
+/// Such a loop is clipped at the arm's first built section (below), as
+/// every loop above the armpit is, so that loops below and above the
+/// armpit end on the same plane: the boundary plane lies short of the
+/// first section wherever the arm's first cuts were skipped, and the
+/// loops that stopped there stepped out past the ones that did not (a
+/// flange across the armpit). Only where the arm ends on the torso's side
+/// through a transition is a loop running out clipped at the boundary
+/// plane.
 ///
 /// A hanging arm's axis never projects into a torso loop, but above the
 /// armpit a horizontal cut still meets the arm's root obliquely and runs a
@@ -160,11 +192,13 @@ fn with_tape_girth(
 ///   at [`Shoulders::start`]) moved [`SHOULDER_OVERLAP`] into the arm,
 ///   `(p − p₀ − δ H t₀)·t₀ > 0` left out: the arm's own sections model
 ///   what lies past its first one, and the torso's straight side sits
-///   inside the arm's tube.
+///   inside the arm's tube. Each such clip that changes the loop is added
+///   to `clips` ([`Clip`]).
 pub(super) fn torso_without_arms(
     seg: &Segmentation,
     outline: SectionLoop,
     shoulders: Shoulders,
+    clips: &mut Vec<Clip>,
 ) -> Option<SectionLoop> {
     let mut out = outline;
     for (arm, armpit, wrist) in [
@@ -202,7 +236,7 @@ pub(super) fn torso_without_arms(
         let level = (out.frame.origin - a).dot(seg.frame.up) / seg.height;
         let side =
             hanging_shoulder(seg, arm).filter(|_| shoulders.side_of(arm) && level >= -SIDE_BELOW);
-        if runs_out && !(level >= 0.0 && side.is_none()) {
+        if runs_out && side.is_some() {
             out = out.clipped(a, d)?;
         } else if let Some(sh) = side {
             // The arm's transition ends on the torso's shoulder, cut by
@@ -212,14 +246,26 @@ pub(super) fn torso_without_arms(
             // plane just below the armpit).
             let reach = SIDE_OVERLAP * (level / SIDE_RAMP).clamp(0.0, 1.0);
             out = out.clipped(sh.armpit + sh.normal * (reach * seg.height), sh.normal)?;
-        } else if level >= 0.0 {
+        } else if level >= 0.0 || runs_out {
             // No side transition: the torso's loop stops where the arm's
             // tube starts (its first built section), reaching
             // SHOULDER_OVERLAP into it so that the straight side lies
-            // inside the tube. (Below the armpit the arm is a loop of its
-            // own.)
+            // inside the tube. (Below the armpit, unless the loop runs
+            // out along it, the arm is a loop of its own.)
             if let Some((p0, t0)) = axis.point_and_tangent(shoulders.start_of(arm)) {
-                out = out.clipped(p0 + t0 * (SHOULDER_OVERLAP * seg.height), t0)?;
+                let origin = p0 + t0 * (SHOULDER_OVERLAP * seg.height);
+                let cut = out.clipped(origin, t0)?;
+                if cut != out {
+                    clips.push(Clip {
+                        origin,
+                        normal: t0,
+                        centre: p0,
+                        // A first section cut across the chest (an arm
+                        // starting forward) is no measure of the tube.
+                        radius: shoulders.radius_of(arm).min(1.5 * r),
+                    });
+                }
+                out = cut;
             }
         }
     }
@@ -260,6 +306,9 @@ pub(super) struct Shoulders {
     /// torso is built after the arms). A torso loop that reaches into the
     /// arm stops just past it (`None`: the axis' shoulder end).
     pub(super) start: [Option<Real>; 2],
+    /// The mean radius `√(A/π)` of each arm's first built section (0
+    /// while unknown).
+    pub(super) radius: [Real; 2],
 }
 
 impl Shoulders {
@@ -269,6 +318,7 @@ impl Shoulders {
             side: [PartName::LeftArm, PartName::RightArm]
                 .map(|a| hanging_shoulder(seg, a).is_some()),
             start: [None; 2],
+            radius: [0.0; 2],
         }
     }
 
@@ -280,6 +330,16 @@ impl Shoulders {
             _ => return 0.0,
         };
         self.start[k].unwrap_or(0.0)
+    }
+
+    /// The mean radius of `arm`'s first built section (see
+    /// [`Shoulders::radius`]).
+    pub(super) fn radius_of(self, arm: PartName) -> Real {
+        match arm {
+            PartName::LeftArm => self.radius[0],
+            PartName::RightArm => self.radius[1],
+            _ => 0.0,
+        }
     }
 
     /// Whether `arm` ends on the torso's side.
@@ -581,6 +641,7 @@ mod tests {
     use super::*;
     use crate::curve::trig::Frame;
     use crate::section::girth::polygon_tape_girth;
+    use crate::{assert_near, assert_vec_near};
 
     /// A body `h` high (up = z, left = x) whose only part is a left arm
     /// 0.5 long from `p0` along `t0`, with its armpit and wrist.
@@ -642,7 +703,8 @@ mod tests {
         // Above the armpit: the plane (p − p₀ − δ t₀)·t₀ = 0 meets z = 1.29
         // at x = 0.2 + δ √2 + (1.29 − 1.3) (45°: one to one).
         let overlap = Shoulders::default();
-        let above = torso_without_arms(&seg, stadium(1.29, 0.26), overlap).unwrap();
+        let above =
+            torso_without_arms(&seg, stadium(1.29, 0.26), overlap, &mut Vec::new()).unwrap();
         let origin = p0 + t0 * (SHOULDER_OVERLAP * h);
         let (lo, hi) = extent(&above);
         let x = 0.2 + SHOULDER_OVERLAP * h * std::f64::consts::SQRT_2 - 0.01;
@@ -652,7 +714,7 @@ mod tests {
         // Below the armpit the arm is a loop of its own: nothing to clip.
         let below = stadium(1.25, 0.26);
         assert_eq!(
-            torso_without_arms(&seg, below.clone(), overlap).unwrap(),
+            torso_without_arms(&seg, below.clone(), overlap, &mut Vec::new()).unwrap(),
             below
         );
         // With the arm's transition on the torso's side: the loop stops
@@ -660,38 +722,40 @@ mod tests {
         // SIDE_OVERLAP · H ramped over SIDE_RAMP · H above the armpit.
         let side = Shoulders::of(&seg);
         assert_eq!(side.side, [true, false]);
-        let above = torso_without_arms(&seg, stadium(1.29, 0.26), side).unwrap();
+        let above = torso_without_arms(&seg, stadium(1.29, 0.26), side, &mut Vec::new()).unwrap();
         let (lo, hi) = extent(&above);
         let reach = SIDE_OVERLAP * h * ((0.02 / h) / SIDE_RAMP).min(1.0);
         assert!((hi - (0.18 + reach)).abs() < 1e-12, "{hi}");
         assert!((lo + 0.26).abs() < 1e-12, "{lo}");
         assert_eq!(
-            torso_without_arms(&seg, below.clone(), side).unwrap(),
+            torso_without_arms(&seg, below.clone(), side, &mut Vec::new()).unwrap(),
             below
         );
         // Just below the armpit (within SIDE_BELOW), a loop still holding
         // part of the arm stops at the side plane itself; without the side
         // transition it is left alone.
         let just_below = stadium(1.268, 0.26);
-        let (_, hi) = extent(&torso_without_arms(&seg, just_below.clone(), side).unwrap());
+        let (_, hi) =
+            extent(&torso_without_arms(&seg, just_below.clone(), side, &mut Vec::new()).unwrap());
         assert!((hi - 0.18).abs() < 1e-12, "{hi}");
         assert_eq!(
-            torso_without_arms(&seg, just_below.clone(), overlap).unwrap(),
+            torso_without_arms(&seg, just_below.clone(), overlap, &mut Vec::new()).unwrap(),
             just_below
         );
     }
 
     /// A left arm held out nearly level (no side transition) whose first
-    /// built section lies a fifth along its axis: a torso loop above the
-    /// armpit that runs out along the arm stops just past that section,
-    /// one below the armpit at the boundary plane through the armpit.
+    /// built section lies a fifth along its axis: torso loops above the
+    /// armpit and below it that run out along the arm both stop just past
+    /// that section (not at the boundary plane through the armpit, which
+    /// lies short of it), and say so in `clips`; the straight side is
+    /// hidden within the tube's radius of the arm's axis only.
     #[test]
     fn a_torso_loop_along_a_held_out_arm_stops_at_its_first_section() {
         let h = 1.7;
         let p0 = Point3::new(0.2, 0.0, 1.3);
         let t0 = Vec3::new(1.0, 0.0, -0.1).normalized().unwrap();
         let armpit = Point3::new(0.18, 0.0, 1.27);
-        let wrist = p0 + t0 * 0.5;
         let seg = one_arm(h, p0, t0, armpit);
         let slab = |z: Real| {
             let points: Vec<Point3> = (0..400)
@@ -706,20 +770,47 @@ mod tests {
         let shoulders = Shoulders {
             side: [false; 2],
             start: [Some(0.2), None],
+            radius: [0.05, 0.0],
         };
         assert!(hanging_shoulder(&seg, PartName::LeftArm).is_none());
-        // How far the clipped loop at `z` reaches past the plane through
-        // `origin` with normal `n`: zero when the plane cut it.
-        let reach = |z: Real, origin: Point3, n: Vec3| {
-            let clipped = torso_without_arms(&seg, slab(z), shoulders).unwrap();
-            let past = clipped.points.iter().map(|&p| (p - origin).dot(n));
-            past.fold(Real::NEG_INFINITY, Real::max)
-        };
-        let first = p0 + t0 * (0.2 * 0.5 + SHOULDER_OVERLAP * h);
-        let above = reach(1.29, first, t0);
-        assert!(above <= 1e-12 && above > -1e-3, "{above}");
-        let below = reach(1.25, armpit, (wrist - armpit).normalized().unwrap());
-        assert!(below <= 1e-12 && below > -1e-3, "{below}");
+        let centre = p0 + t0 * (0.2 * 0.5);
+        let first = centre + t0 * (SHOULDER_OVERLAP * h);
+        for z in [1.29, 1.25] {
+            let mut clips = Vec::new();
+            let clipped = torso_without_arms(&seg, slab(z), shoulders, &mut clips).unwrap();
+            let past = clipped.points.iter().map(|&p| (p - first).dot(t0));
+            let reach = past.fold(Real::NEG_INFINITY, Real::max);
+            assert!(reach <= 1e-12 && reach > -1e-3, "{z}: {reach}");
+            assert_eq!(clips.len(), 1);
+            let clip = clips[0];
+            assert_vec_near!(clip.origin, first, 1e-12);
+            assert_vec_near!(clip.centre, centre, 1e-12);
+            // The radius is the first section's, at most 1.5 times the
+            // arm's median (0.045 here).
+            assert_near!(clip.radius, 0.05, 1e-15);
+            // On the plane: hidden near the axis, not 0.06 away from it or
+            // off the plane.
+            let across = Vec3::new(0.0, 1.0, 0.0);
+            assert!(clip.hides(first + across * 0.04, 1e-3));
+            assert!(!clip.hides(first + across * 0.06, 1e-3));
+            assert!(!clip.hides(first + across * 0.01 + t0 * 0.002, 1e-3));
+        }
+        // A loop that does not reach the plane is not clipped there.
+        let mut clips = Vec::new();
+        let narrow = SectionLoop::from_points(
+            (0..400)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * i as Real / 400.0;
+                    Point3::new(0.1 * t.cos(), 0.1 * t.sin(), 1.29)
+                })
+                .collect(),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        )
+        .unwrap();
+        let kept = torso_without_arms(&seg, narrow.clone(), shoulders, &mut clips).unwrap();
+        assert_eq!(kept, narrow);
+        assert!(clips.is_empty());
     }
 
     /// A foot lifted 3 cm off the floor: its sole is its own lowest points

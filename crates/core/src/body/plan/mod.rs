@@ -188,8 +188,9 @@ fn with_tape_girth(
 ///   side;
 /// * otherwise (an arm held out part way or raised, or one whose
 ///   transition strayed from the input): at the plane of the arm's first
-///   built section (normal `t₀`, the axis tangent at `p₀`, the axis point
-///   at [`Shoulders::start`]) moved [`SHOULDER_OVERLAP`] into the arm,
+///   built section (`p₀`, the axis point at [`Shoulders::start`]; normal
+///   `t₀`, the axis tangent there without its forward or backward part,
+///   [`coronal_outward`]) moved [`SHOULDER_OVERLAP`] into the arm,
 ///   `(p − p₀ − δ H t₀)·t₀ > 0` left out: the arm's own sections model
 ///   what lies past its first one, and the torso's straight side sits
 ///   inside the arm's tube. Each such clip that changes the loop is added
@@ -252,7 +253,8 @@ pub(super) fn torso_without_arms(
             // SHOULDER_OVERLAP into it so that the straight side lies
             // inside the tube. (Below the armpit, unless the loop runs
             // out along it, the arm is a loop of its own.)
-            if let Some((p0, t0)) = axis.point_and_tangent(shoulders.start_of(arm)) {
+            if let Some((p0, t)) = axis.point_and_tangent(shoulders.start_of(arm)) {
+                let t0 = coronal_outward(seg, arm, t);
                 let origin = p0 + t0 * (SHOULDER_OVERLAP * seg.height);
                 let cut = out.clipped(origin, t0)?;
                 if cut != out {
@@ -270,6 +272,25 @@ pub(super) fn torso_without_arms(
         }
     }
     Some(out)
+}
+
+/// The normal of the plane a torso loop stops at beside `arm`: the arm's
+/// direction `t` at its first section without its forward or backward
+/// part, where that still points out of the torso on the arm's side (else
+/// `t` itself: an arm starting across the chest). An arm whose start leans
+/// forward or back would otherwise have the plane slice the chest's front
+/// or the back off the torso's loops.
+pub(super) fn coronal_outward(seg: &Segmentation, arm: PartName, t: Vec3) -> Vec3 {
+    let (front, left) = (seg.frame.front, seg.frame.left);
+    let out = if arm == PartName::LeftArm {
+        left
+    } else {
+        -left
+    };
+    (t - front * t.dot(front))
+        .normalized()
+        .filter(|c| c.dot(out) > 0.0)
+        .unwrap_or(t)
 }
 
 /// How far past the shoulder's side plane (vertical, through the armpit)
@@ -811,6 +832,28 @@ mod tests {
         let kept = torso_without_arms(&seg, narrow.clone(), shoulders, &mut clips).unwrap();
         assert_eq!(kept, narrow);
         assert!(clips.is_empty());
+    }
+
+    /// The plane beside an arm leaning forward at its start is turned to
+    /// face sideways (up = z, front = -y, left = x); an arm starting
+    /// straight forward or across the chest keeps its own direction.
+    #[test]
+    fn the_plane_beside_an_arm_faces_sideways() {
+        let seg = Segmentation::z_up(1.7, Vec::new(), Vec::new());
+        let unit = |x: Real, y: Real, z: Real| Vec3::new(x, y, z).normalized().unwrap();
+        let leaning = unit(1.0, -0.5, 0.5);
+        let n = coronal_outward(&seg, PartName::LeftArm, leaning);
+        assert_vec_near!(n, unit(1.0, 0.0, 0.5), 1e-15);
+        let forward = unit(0.0, -1.0, 0.0);
+        assert_eq!(coronal_outward(&seg, PartName::LeftArm, forward), forward);
+        let across = unit(1.0, -0.3, 0.0);
+        assert_eq!(coronal_outward(&seg, PartName::RightArm, across), across);
+        let right = unit(-1.0, 0.4, 0.2);
+        assert_vec_near!(
+            coronal_outward(&seg, PartName::RightArm, right),
+            unit(-1.0, 0.0, 0.2),
+            1e-15
+        );
     }
 
     /// A foot lifted 3 cm off the floor: its sole is its own lowest points

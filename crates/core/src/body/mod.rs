@@ -158,7 +158,9 @@ pub struct ReconstructOptions {
     pub end_area_fraction: Real,
     /// The foot's sections end where its outline shrinks below this fraction
     /// of its largest outline below the ankle (the sole curving up at the
-    /// heel and toes); a flat cap closes it. Default 0.75.
+    /// heel and toes, or a lifted foot's tilted sole, which the outlines
+    /// follow down to the heel); a dome down to the foot's bottom closes
+    /// it. Default 0.5.
     pub sole_area_fraction: Real,
     /// Height of the lowest foot section above the floor, as a fraction of
     /// the height. Default 0.002.
@@ -214,7 +216,7 @@ impl Default for ReconstructOptions {
             foot_spacing: 0.004,
             end_area_fraction: 0.5,
             sole_height: 0.002,
-            sole_area_fraction: 0.75,
+            sole_area_fraction: 0.5,
             part: PartOptions::default(),
             units: Units::Metres,
             scan_tolerance_factor: 2.0,

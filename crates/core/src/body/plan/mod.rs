@@ -578,10 +578,24 @@ pub(super) fn cut_to_rounded_end(
                 }
                 largest = largest.max(c.area);
             }
+            if out.last().is_some_and(|p| !follows(p, &c)) {
+                return out;
+            }
             out.push(c);
         }
     }
     out
+}
+
+/// Whether `next` continues the part `prev` belongs to: its centre lies
+/// within twice `prev`'s mean radius `√(A/π)` of `prev`'s centre (a
+/// hand's loops shift by about a radius where the thumb leaves them).
+/// Where a foot's outlines end, the cut's nearest loop can be the other
+/// foot or another part touching this one.
+pub(super) fn follows(prev: &Cut, next: &Cut) -> bool {
+    let r = (prev.area.abs() / std::f64::consts::PI).sqrt();
+    let (a, b) = (prev.fit.curve.frame.origin, next.fit.curve.frame.origin);
+    a.distance(b) <= 2.0 * r
 }
 
 /// The leg's axis continued from the ankle straight down to `floor + lift`
@@ -854,6 +868,33 @@ mod tests {
             unit(-1.0, 0.0, 0.2),
             1e-15
         );
+    }
+
+    /// A foot outline's successor lies within two mean radii of it; the
+    /// other foot, 0.25 away, does not continue it.
+    #[test]
+    fn the_other_foot_does_not_continue_a_foot() {
+        let cut = |x: Real| {
+            let points: Vec<Point3> = (0..64)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * i as Real / 64.0;
+                    Point3::new(x + 0.05 * t.cos(), 0.1 * t.sin(), 0.02)
+                })
+                .collect();
+            let fit = fit_loop(&points, &FitOptions::default()).unwrap();
+            let area = fit.curve.area().abs();
+            Cut {
+                at: 0.9,
+                fit,
+                area,
+                clips: Vec::new(),
+            }
+        };
+        // Mean radius √(0.05 · 0.1) ≈ 0.0707.
+        let foot = cut(0.0);
+        assert!(follows(&foot, &cut(0.03)));
+        assert!(follows(&foot, &cut(0.14)));
+        assert!(!follows(&foot, &cut(0.25)));
     }
 
     /// A foot lifted 3 cm off the floor: its sole is its own lowest points

@@ -528,7 +528,8 @@ pub(super) fn cut_all(
 }
 
 /// Sections up to a rounded end: evenly from `t0` while the loop keeps at
-/// least `end_area_fraction` of the largest loop seen after `watch_from`.
+/// least `end_area_fraction` of the largest loop seen after `watch_from`,
+/// and after it [`follows`] the loop before.
 pub(super) fn cut_to_rounded_end(
     cutter: &Cutter<'_>,
     name: PartName,
@@ -578,7 +579,7 @@ pub(super) fn cut_to_rounded_end(
                 }
                 largest = largest.max(c.area);
             }
-            if out.last().is_some_and(|p| !follows(p, &c)) {
+            if t >= watch_from && out.last().is_some_and(|p| !follows(p, &c)) {
                 return out;
             }
             out.push(c);

@@ -66,7 +66,7 @@
 use crate::anatomy::{BodyFrame, BodyGeometry, LandmarkKind, PartName};
 use crate::curve::fit::{fit_loop, FitOptions, LoopFit};
 use crate::curve::trig::TrigCurve;
-use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::math::{mean_radius, Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
 use crate::section::cloud::scan_fit_options;
 use crate::section::mesh::SectionLoop;
@@ -614,7 +614,7 @@ fn reconstruct_steps(
             };
             shoulders.start[s] = part.fits.first().map(|f| f.at);
             if let Some(c) = part.part.sections().first() {
-                shoulders.radius[s] = (c.area().abs() / std::f64::consts::PI).sqrt();
+                shoulders.radius[s] = mean_radius(c.area());
             }
         }
         progress("sections: torso");

@@ -14,6 +14,12 @@ pub const DEFAULT_EA: Real = 0.01;
 /// Default maximum relative error tolerance `E_M` (paper Eq. 12): 5 %.
 pub const DEFAULT_EM: Real = 0.05;
 
+/// A loop's mean (equivalent) radius: the radius `√(|A|/π)` of the circle
+/// of its area's magnitude.
+pub fn mean_radius(area: Real) -> Real {
+    (area.abs() / std::f64::consts::PI).sqrt()
+}
+
 /// A point or vector in the plane.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Vec2 {

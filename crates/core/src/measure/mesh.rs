@@ -74,7 +74,7 @@ use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};
 use crate::curve::fit::{fit_loop, FitError, FitOptions};
 use crate::curve::trig::TrigCurve;
 use crate::geom::holes::close_holes;
-use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::math::{mean_radius, Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
 use crate::geom::tolerance::SIZING_ACCURACY;
 use crate::section::girth::{polygon_perimeter, polygon_tape_girth, tape_girth};
@@ -936,7 +936,7 @@ fn slice_stack(slicer: &MeshSlicer<'_>, opts: &MeasureOptions) -> Result<SliceSt
                 area: sign * area,
                 perimeter,
                 centroid,
-                radius: (area.abs() / std::f64::consts::PI).sqrt(),
+                radius: mean_radius(area),
                 reach,
             });
         }

@@ -104,7 +104,7 @@ use crate::body::Body;
 use crate::curve::ellipse::fit_ellipse;
 use crate::curve::series::{harmonics, Series};
 use crate::curve::trig::{Frame, SpaceCurve, TrigCurve};
-use crate::geom::math::{Point3, Real, Vec2, Vec3};
+use crate::geom::math::{mean_radius, Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::Mesh;
 use crate::geom::tolerance::{ROUNDING_MARGIN, SIZING_ACCURACY};
 use crate::measure::mesh::{
@@ -115,7 +115,7 @@ use crate::measure::volume::{arm_torso_overlaps, volume_area_extent, VTable};
 use crate::section::girth::{polygon_perimeter, polygon_tape_girth};
 use crate::section::mesh::{polygon_area_centroid, section_mesh, Plane, SectionOptions};
 use crate::surface::part::Part;
-use std::f64::consts::{PI, TAU};
+use std::f64::consts::TAU;
 
 /// Options of [`measure_body`]; lengths are fractions of the stature `H`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -208,7 +208,7 @@ fn proxies(c: &SpaceCurve, n: Vec3, toward: Vec3) -> (Real, Real) {
         * (0..p.len())
             .map(|i| p[i].cross(p[(i + 1) % p.len()]))
             .sum::<Real>();
-    (polygon_tape_girth(&p), (area.abs() / PI).sqrt())
+    (polygon_tape_girth(&p), mean_radius(area))
 }
 
 /// The equivalent radius `√(|A⃗·n|/π)` of a space curve across `n`, exact
@@ -226,7 +226,7 @@ fn equivalent_radius(c: &SpaceCurve, n: Vec3) -> Real {
         let sj = Vec3::new(at(&c.x, 2 * j), at(&c.y, 2 * j), at(&c.z, 2 * j));
         a += cj.cross(sj) * j as Real;
     }
-    (a.dot(n).abs() / PI).sqrt()
+    mean_radius(a.dot(n))
 }
 
 /// The section of `part` by `plane` (see the module doc), as `n` points, or
@@ -920,6 +920,7 @@ mod tests {
     use crate::measure::volume::{part_integrals, transition_integrals, Tables, GL6};
     use crate::surface::cap::CapKind;
     use crate::surface::part::PartOptions;
+    use std::f64::consts::PI;
 
     /// A vertical cylinder of radius `r` from height 0 to `len` (y up),
     /// closed by flat caps, as the torso of a body.

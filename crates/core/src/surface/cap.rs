@@ -35,10 +35,10 @@
 
 use crate::curve::series::Series;
 use crate::curve::trig::{SpaceCurve, TrigCurve};
-use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::math::{mean_radius, Point3, Real, Vec3};
 use crate::surface::patch::{Patch, PatchError};
 use serde::{Deserialize, Serialize};
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::FRAC_PI_2;
 use thiserror::Error;
 
 /// How an end of a part is closed.
@@ -255,7 +255,7 @@ pub fn dome_cap(
         }
     };
     // Mean radius from the area; the RMS distance to the centre when flat.
-    let mut radius = (curve.area().abs() / PI).sqrt();
+    let mut radius = mean_radius(curve.area());
     if radius.is_nan() || radius <= 0.0 {
         let n = 64;
         radius = (curve

@@ -69,7 +69,7 @@
 //! the built-in body's report surface, 380 000 triangles: about 12 500
 //! distance queries and 2 100 parity tests).
 
-use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::math::{mean_radius, Point3, Real, Vec3};
 use crate::geom::mesh::{concatenate, Aabb, Mesh};
 use crate::geom::parallel::each_on_cores;
 use crate::geom::tolerance::{GEOMETRIC_EPS, ROUNDING_MARGIN};
@@ -638,7 +638,7 @@ pub fn closed_piece(m: &Mesh, bulge: Real) -> Option<Mesh> {
         let area = (0..cycle.len()).fold(Vec3::ZERO, |s, k| {
             s + (at(k + 1) - mean).cross(at(k) - mean) * 0.5
         });
-        let radius = (area.norm() / std::f64::consts::PI).sqrt();
+        let radius = mean_radius(area.norm());
         let c = out.positions.len() as u32;
         out.positions
             .push(mean + area.normalized().unwrap_or(Vec3::ZERO) * (bulge * radius));

@@ -211,7 +211,7 @@ fn dome_to_tip(cuts: &[Cut], tip: Option<Point3>, cap: CapKind) -> CapKind {
 /// `c`'s mean radius `r = √(A/π)`, clamped to `[0.02, 4]`; `None` unless
 /// both are positive.
 pub(in crate::body) fn height_to_reach(c: &TrigCurve, tip: Point3) -> Option<Real> {
-    let r = (c.area().abs() / std::f64::consts::PI).sqrt();
+    let r = mean_radius(c.area());
     let d = (tip - c.frame.origin)
         .dot(c.frame.e1.cross(c.frame.e2))
         .abs();

@@ -594,7 +594,7 @@ pub(super) fn cut_to_rounded_end(
 /// Where a foot's outlines end, the cut's nearest loop can be the other
 /// foot or another part touching this one.
 pub(super) fn follows(prev: &Cut, next: &Cut) -> bool {
-    let r = (prev.area.abs() / std::f64::consts::PI).sqrt();
+    let r = mean_radius(prev.area);
     let (a, b) = (prev.fit.curve.frame.origin, next.fit.curve.frame.origin);
     a.distance(b) <= 2.0 * r
 }

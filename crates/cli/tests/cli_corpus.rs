@@ -9,7 +9,7 @@
 //! so loudly and checks only the command's handling of a bad folder.
 
 use assert_cmd::Command;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn corpus() -> Option<PathBuf> {
     let d = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/corpus");
@@ -28,6 +28,26 @@ fn out_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("trigbody-corpus-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
+}
+
+/// Runs `trigbody corpus DIR ARGS --out OUT`, checks that it succeeded
+/// and returns its results.csv.
+fn run_corpus(dir: &Path, out: &Path, args: &[&str]) -> String {
+    let run = Command::cargo_bin("trigbody")
+        .unwrap()
+        .arg("corpus")
+        .arg(dir)
+        .args(args)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    std::fs::read_to_string(out.join("results.csv")).unwrap()
 }
 
 /// (input, pose class, RMS limit mm, wrists checked; ankles always are,
@@ -92,25 +112,9 @@ fn one_body_of_each_pose_class_stays_reconstructed() {
     };
     let out = out_dir("poses");
     let names: Vec<&str> = CASES.iter().map(|c| c.0).collect();
-    let run = Command::cargo_bin("trigbody")
-        .unwrap()
-        .arg("corpus")
-        .arg(&dir)
-        .args([
-            "--only",
-            &names.join(","),
-            "--samples",
-            "30000",
-            "--pictures",
-            "1",
-        ])
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{stderr}");
-    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let only = names.join(",");
+    let args = ["--only", &only, "--samples", "30000", "--pictures", "1"];
+    let csv = run_corpus(&dir, &out, &args);
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let rows: Vec<Vec<&str>> = csv
@@ -125,7 +129,7 @@ fn one_body_of_each_pose_class_stays_reconstructed() {
             .find(|r| r[0] == name)
             .unwrap_or_else(|| panic!("{name}: {csv}"));
         assert_eq!(row[col("pose")], pose, "{name}");
-        assert_ne!(row[col("status")], "failed", "{name} ({pose}): {stderr}");
+        assert_ne!(row[col("status")], "failed", "{name} ({pose}): {csv}");
         assert_eq!(row[col("parts")], "8", "{name} ({pose}): a part was lost");
         let rms: f64 = row[col("rms_mm")].parse().unwrap();
         assert!(rms <= limit, "{name} ({pose}): rms {rms} mm > {limit}");
@@ -199,29 +203,16 @@ fn a_turned_and_moved_mesh_is_judged_as_given() {
     };
     let rms = |extra: &[&str]| {
         let out = out_dir(&format!("probe{}", extra.len()));
-        let run = Command::cargo_bin("trigbody")
-            .unwrap()
-            .arg("corpus")
-            .arg(&dir)
-            .args([
-                "--only",
-                "body_033",
-                "--pictures",
-                "0",
-                "--samples",
-                "20000",
-            ])
-            .args(extra)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
-        let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+        let mut args = vec![
+            "--only",
+            "body_033",
+            "--pictures",
+            "0",
+            "--samples",
+            "20000",
+        ];
+        args.extend_from_slice(extra);
+        let csv = run_corpus(&dir, &out, &args);
         let md = std::fs::read_to_string(out.join("results.md")).unwrap();
         let turned = extra.contains(&"--turn-deg");
         assert_eq!(md.starts_with("Every input turned"), turned, "{md}");
@@ -257,20 +248,9 @@ fn a_turned_raised_arm_scan_keeps_its_head() {
     let Some(dir) = corpus() else {
         return;
     };
-    let out = out_dir("turned-raised");
-    let run = Command::cargo_bin("trigbody")
-        .unwrap()
-        .arg("corpus")
-        .arg(&dir)
-        .args(["--only", "body_001_scan", "--turn-deg", "30", "--seed", "6"])
-        .args(["--pictures", "0", "--samples", "20000"])
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "{stderr}");
-    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let args = ["--only", "body_001_scan", "--turn-deg", "30", "--seed", "6"];
+    let args = [&args[..], &["--pictures", "0", "--samples", "20000"]].concat();
+    let csv = run_corpus(&dir, &out_dir("turned-raised"), &args);
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();

@@ -605,18 +605,7 @@ fn reconstruct_steps(
         }
     }
     if with_torso {
-        for (s, arm) in [PartName::LeftArm, PartName::RightArm]
-            .into_iter()
-            .enumerate()
-        {
-            let Some(part) = parts.iter().find(|p| p.name == arm) else {
-                continue;
-            };
-            shoulders.start[s] = part.fits.first().map(|f| f.at);
-            if let Some(c) = part.part.sections().first() {
-                shoulders.radius[s] = mean_radius(c.area());
-            }
-        }
+        shoulders = shoulders.with_arms(&parts);
         progress("sections: torso");
         let plan = torso_plan(shoulders, &mut warnings);
         progress("skinning and refining: torso");

@@ -484,8 +484,8 @@ impl Part {
 
         let segments = match options.skinning {
             Skinning::CatmullRom => {
-                let normals: Vec<Vec3> = curves.iter().map(|c| c.frame.normal()).collect();
-                catmull_rom(&world, &knots, &normals)?
+                let ends = [&curves[0], &curves[n - 1]].map(|c| c.frame.normal());
+                catmull_rom(&world, &knots, ends)?
             }
             Skinning::NaturalSpline => natural_spline(&world, &knots)?,
             Skinning::PaperChained => paper(&world, &knots, options, true)?,
@@ -628,14 +628,14 @@ fn patch_err(segment: usize) -> impl Fn(PatchError) -> PartError {
 /// Cubic Hermite segments with the non-uniform Catmull-Rom (Bessel) tangents.
 /// An end's tangent (the derivative of the parabola through the last three
 /// curves) is the last chord's instead where the two cross the end curve's
-/// plane (`normals`) in opposite directions: with uneven knots (a foot's
+/// plane (normal `ends`: first, last) in opposite directions: with uneven knots (a foot's
 /// outlines, whose centres shift from heel to toe) the parabola can turn
 /// back through the end plane, and the skin and its end cap fold back
 /// into the part.
 fn catmull_rom(
     world: &[SpaceCurve],
     knots: &[Real],
-    normals: &[Vec3],
+    ends: [Vec3; 2],
 ) -> Result<Vec<Segment>, PartError> {
     let order = common_order(world);
     let p: Vec<Vec<Real>> = world.iter().map(|c| flatten(c, order)).collect();
@@ -652,11 +652,11 @@ fn catmull_rom(
                 // Derivative at s_0 of the parabola through curves 0, 1, 2.
                 let q = h[0] / (h[0] + h[1]);
                 let t = combine(&[(1.0 + q, &d[0]), (-q, &d[1])]);
-                unless_folding(t, &d[0], normals[0], order)
+                unless_folding(t, &d[0], ends[0], order)
             } else if k == n - 1 {
                 let q = h[n - 2] / (h[n - 3] + h[n - 2]);
                 let t = combine(&[(1.0 + q, &d[n - 2]), (-q, &d[n - 3])]);
-                unless_folding(t, &d[n - 2], normals[n - 1], order)
+                unless_folding(t, &d[n - 2], ends[1], order)
             } else {
                 let w = h[k - 1] + h[k];
                 combine(&[(h[k] / w, &d[k - 1]), (h[k - 1] / w, &d[k])])

@@ -256,8 +256,7 @@ pub(super) fn torso_without_arms(
             if let Some((p0, t)) = axis.point_and_tangent(shoulders.start_of(arm)) {
                 let t0 = coronal_outward(seg, arm, t);
                 let origin = p0 + t0 * (SHOULDER_OVERLAP * seg.height);
-                let cut = out.clipped(origin, t0)?;
-                if cut != out {
+                if out.points.iter().any(|&p| (p - origin).dot(t0) > 0.0) {
                     clips.push(Clip {
                         origin,
                         normal: t0,
@@ -267,7 +266,7 @@ pub(super) fn torso_without_arms(
                         radius: shoulders.radius_of(arm).min(1.5 * r),
                     });
                 }
-                out = cut;
+                out = out.clipped(origin, t0)?;
             }
         }
     }
@@ -343,33 +342,45 @@ impl Shoulders {
         }
     }
 
+    /// The shoulders with each built arm's first section (`parts`: the
+    /// parts built so far; see [`Shoulders::start`]).
+    pub(super) fn with_arms(mut self, parts: &[BodyPart]) -> Shoulders {
+        for part in parts {
+            let Some(k) = arm_slot(part.name) else {
+                continue;
+            };
+            self.start[k] = part.fits.first().map(|f| f.at);
+            if let Some(c) = part.part.sections().first() {
+                self.radius[k] = mean_radius(c.area());
+            }
+        }
+        self
+    }
+
     /// Where `arm`'s tube starts (see [`Shoulders::start`]).
     pub(super) fn start_of(self, arm: PartName) -> Real {
-        let k = match arm {
-            PartName::LeftArm => 0,
-            PartName::RightArm => 1,
-            _ => return 0.0,
-        };
-        self.start[k].unwrap_or(0.0)
+        arm_slot(arm).and_then(|k| self.start[k]).unwrap_or(0.0)
     }
 
     /// The mean radius of `arm`'s first built section (see
     /// [`Shoulders::radius`]).
     pub(super) fn radius_of(self, arm: PartName) -> Real {
-        match arm {
-            PartName::LeftArm => self.radius[0],
-            PartName::RightArm => self.radius[1],
-            _ => 0.0,
-        }
+        arm_slot(arm).map_or(0.0, |k| self.radius[k])
     }
 
     /// Whether `arm` ends on the torso's side.
     pub(super) fn side_of(self, arm: PartName) -> bool {
-        match arm {
-            PartName::LeftArm => self.side[0],
-            PartName::RightArm => self.side[1],
-            _ => false,
-        }
+        arm_slot(arm).is_some_and(|k| self.side[k])
+    }
+}
+
+/// The slot of an arm in the [`Shoulders`] pairs (left, right); `None`
+/// for another part.
+fn arm_slot(arm: PartName) -> Option<usize> {
+    match arm {
+        PartName::LeftArm => Some(0),
+        PartName::RightArm => Some(1),
+        _ => None,
     }
 }
 

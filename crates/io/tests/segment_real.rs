@@ -10,8 +10,8 @@ mod common;
 
 use common::shared_data;
 use trigbody_core::internals::segment::cut_part;
+use trigbody_core::{clean_cloud, virtual_scan, CleanOptions, ScannerOptions};
 use trigbody_core::{segment, BodyGeometry, LandmarkKind, PartName, SegmentOptions, Segmentation};
-use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_core::{Mesh, Point3, PointCloud, Vec3};
 use trigbody_io::{read_mesh, read_point_cloud, ReadOptions};
 
@@ -568,4 +568,55 @@ fn scan_with_stray_points_keeps_its_height() {
         shift: Vec3::ZERO,
     };
     assert_same_model("scan with stray points", &base, &s, &t, 0.02);
+}
+
+/// The shoulder extension of a scan's arm steps from cut to cut along the
+/// arm. Where a cut runs obliquely through the armpit, the slab's loop
+/// splits and its smaller piece lay nearest the step point: the axis
+/// jumped to it and back (25-35 mm off the arm, radius two thirds of the
+/// arm's) and the arm's first sections turned 70° away from the arm. No
+/// axis point of either arm's proximal fifth may sit that far off its
+/// neighbours with a radius that unlike theirs (a Hampel check over nine
+/// points).
+#[test]
+fn a_scan_arm_s_shoulder_extension_follows_the_arm() {
+    let Some(data) = shared_data() else {
+        eprintln!("NOTE: shared data missing: the shoulder extension on scans is not checked");
+        return;
+    };
+    for name in ["body_002_scan.ply", "body_011_scan.ply"] {
+        let cloud =
+            read_point_cloud(data.join("corpus").join(name), &ReadOptions::default()).unwrap();
+        let (clean, report) = clean_cloud(&cloud, &CleanOptions::default());
+        let opts = SegmentOptions {
+            up: report.floor_normal,
+            ..SegmentOptions::default()
+        };
+        let s = segment(BodyGeometry::Cloud(&clean), &opts).unwrap();
+        for arm in [PartName::LeftArm, PartName::RightArm] {
+            let axis = s.part(arm).unwrap();
+            let n = axis.points.len();
+            for i in 0..n / 5 {
+                let w: Vec<usize> = (i.saturating_sub(4)..(i + 5).min(n)).collect();
+                let med = |f: &dyn Fn(usize) -> f64| {
+                    let mut v: Vec<f64> = w.iter().map(|&j| f(j)).collect();
+                    v.sort_by(f64::total_cmp);
+                    v[v.len() / 2]
+                };
+                let r = med(&|j| axis.radii[j]);
+                let c = Point3::new(
+                    med(&|j| axis.points[j].x),
+                    med(&|j| axis.points[j].y),
+                    med(&|j| axis.points[j].z),
+                );
+                let off = axis.points[i].distance(c);
+                let unlike = (axis.radii[i] - r).abs() > 0.3 * r;
+                assert!(
+                    !(unlike && off > 0.3 * r),
+                    "{name} {arm}: axis point {i} of {n} lies {off:.4} off its neighbours with radius {:.4} against their {r:.4} (file units)",
+                    axis.radii[i]
+                );
+            }
+        }
+    }
 }

@@ -729,6 +729,13 @@ fn extend_into_shoulder(
         if nd.area > 1.5 * area || (nd.c2 - q2).norm() > r {
             break;
         }
+        // A loop under half the arm's area is a piece of it (a scan's slab
+        // split where the cut runs obliquely through the armpit), whose
+        // centroid lies off the arm's: step on past it.
+        if nd.area < 0.5 * area {
+            centre = q;
+            continue;
+        }
         centre = nd.centroid;
         added.push((nd.centroid, nd.radius));
     }

@@ -142,6 +142,15 @@ fn one_body_of_each_pose_class_stays_reconstructed() {
             assert!(e <= 30.0, "{name} ({pose}): {joint} {e} mm off the truth");
         }
     }
+    // Meshes whose far area (model farther than 10 mm from the truth) lay
+    // mostly on a hand's paddle: a mesh hand's sections run on past the
+    // palm while the fingers lie together (body_037: 0.53 % when they
+    // stopped at half the palm with its thumb). The target.
+    for name in ["body_032", "body_037"] {
+        let row = rows.iter().find(|r| r[0] == name).unwrap();
+        let far: f64 = row[col("model_far")].parse().unwrap();
+        assert!(far <= 0.005, "{name}: far area {far} over 0.5 %");
+    }
     let md = std::fs::read_to_string(out.join("results.md")).unwrap();
     assert!(md.contains("| body_020 | raised |"), "{md}");
     assert!(std::fs::read_dir(&out).unwrap().any(|e| e

@@ -24,9 +24,12 @@
 //!      loop beyond it, then a dome reaches the head top: its height
 //!      `h = d / r`, `d` the distance from the last section's centre to the
 //!      head top along the axis, `r = √(A/π)` the last loop's mean radius.
-//!    * Arms: shoulder → hand tip, the same rule past the wrist (where the
-//!      fingers split the hand's loop, its area drops): a mitten-like dome
-//!      to the hand tip.
+//!    * Arms: shoulder → hand tip, the same rule past the wrist, held
+//!      against the wrist's loop on a mesh (past the palm a mesh's loop is
+//!      the fingers' own outline: it runs on while they lie together and
+//!      ends where one finger is cut alone) and against the largest (the
+//!      palm with its thumb) on a scan (whose slab there merges fingers,
+//!      thumb and gaps into blobs): a mitten-like dome to the hand tip.
 //!    * Legs with feet (shoe-like): crotch → ankle along the leg's axis,
 //!      then straight down along `−up` to just above the floor, so the
 //!      sections below the ankle are horizontal outlines of the whole foot
@@ -154,7 +157,8 @@ pub struct ReconstructOptions {
     pub foot_spacing: Real,
     /// A rounded end (head top, hand) ends its sections where the loop has
     /// shrunk below this fraction of the largest loop beyond the part's
-    /// middle (head) or wrist (hand); a dome closes the rest. Default 0.5.
+    /// middle (head) or wrist (a scan's hand), or of the wrist's loop (a
+    /// mesh's hand); a dome closes the rest. Default 0.5.
     pub end_area_fraction: Real,
     /// The foot's sections end where its outline shrinks below this fraction
     /// of its largest outline below the ankle (the sole curving up at the
@@ -773,7 +777,18 @@ impl LimbPlans<'_> {
         let name = PartName::Head;
         Plan {
             name,
-            cuts: cut_to_rounded_end(self.cutter, name, 0.0, 0.5, step, self.opts, warnings),
+            cuts: cut_to_rounded_end(
+                self.cutter,
+                name,
+                RoundedEnd {
+                    t0: 0.0,
+                    watch_from: 0.5,
+                    step,
+                    against: EndArea::Largest,
+                },
+                self.opts,
+                warnings,
+            ),
             start_cap: CapKind::Open,
             end_cap: CapKind::dome(),
             tip: axis.points.last().copied(),
@@ -802,15 +817,20 @@ impl LimbPlans<'_> {
             warnings,
         );
         cuts.pop(); // the wrist itself starts the hand's run
-        cuts.extend(cut_to_rounded_end(
-            self.cutter,
-            name,
-            wrist,
-            wrist,
-            fine,
-            opts,
-            warnings,
-        ));
+                    // A scan's slab past the palm merges the fingers, the thumb and the
+                    // scanner's gaps into blobs whose sections fold: its hand ends
+                    // where the loop falls under the palm with its thumb.
+        let against = match self.cutter.body() {
+            BodyGeometry::Mesh(_) => EndArea::First,
+            BodyGeometry::Cloud(_) => EndArea::Largest,
+        };
+        let hand = RoundedEnd {
+            t0: wrist,
+            watch_from: wrist,
+            step: fine,
+            against,
+        };
+        cuts.extend(cut_to_rounded_end(self.cutter, name, hand, opts, warnings));
         Plan {
             name,
             cuts,
@@ -851,12 +871,16 @@ impl LimbPlans<'_> {
             end_area_fraction: opts.sole_area_fraction,
             ..*opts
         };
+        let outlines = RoundedEnd {
+            t0: upper,
+            watch_from: ankle,
+            step: opts.foot_spacing * h / len,
+            against: EndArea::Largest,
+        };
         cuts.extend(cut_to_rounded_end(
             self.cutter,
             name,
-            upper,
-            ankle,
-            opts.foot_spacing * h / len,
+            outlines,
             &foot,
             warnings,
         ));

@@ -538,20 +538,46 @@ pub(super) fn cut_all(
     out
 }
 
-/// Sections up to a rounded end: evenly from `t0` while the loop keeps at
-/// least `end_area_fraction` of the largest loop seen after `watch_from`,
-/// and after it [`follows`] the loop before.
+/// A rounded end's run of sections (head top, hand, foot): evenly from
+/// `t0` in steps of `step` (axis fractions); from `watch_from` on the run
+/// ends where the loop shrinks below `end_area_fraction` of the area it is
+/// held `against`, or no longer [`follows`] the loop before.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct RoundedEnd {
+    pub(super) t0: Real,
+    pub(super) watch_from: Real,
+    pub(super) step: Real,
+    pub(super) against: EndArea,
+}
+
+/// What a rounded end's loops are held against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum EndArea {
+    /// The largest loop seen from `watch_from` on (a head's widest, a
+    /// foot's largest outline, a scan's palm with its thumb).
+    Largest,
+    /// The first loop from `watch_from` on (a mesh's wrist): past the
+    /// palm a mesh's loop is the fingers' own outline, which runs on while
+    /// they lie together and ends where one finger is cut alone.
+    First,
+}
+
+/// Sections up to a rounded end ([`RoundedEnd`]).
 pub(super) fn cut_to_rounded_end(
     cutter: &Cutter<'_>,
     name: PartName,
-    t0: Real,
-    watch_from: Real,
-    step: Real,
+    run: RoundedEnd,
     opts: &ReconstructOptions,
     warnings: &mut Vec<String>,
 ) -> Vec<Cut> {
     let mut out: Vec<Cut> = Vec::new();
-    let mut largest: Real = 0.0;
+    let RoundedEnd {
+        t0,
+        watch_from,
+        step,
+        against,
+    } = run;
+    let mut reference: Real = 0.0;
     let mut failed = 0;
     let ts = fractions(t0, 1.0, step);
     let ts = &ts[..ts.len().saturating_sub(1)];
@@ -585,10 +611,12 @@ pub(super) fn cut_to_rounded_end(
             };
             failed = 0;
             if t >= watch_from {
-                if largest > 0.0 && c.area < opts.end_area_fraction * largest {
+                if reference > 0.0 && c.area < opts.end_area_fraction * reference {
                     return out;
                 }
-                largest = largest.max(c.area);
+                if against == EndArea::Largest || reference == 0.0 {
+                    reference = reference.max(c.area);
+                }
             }
             if t >= watch_from && out.last().is_some_and(|p| !follows(p, &c)) {
                 return out;

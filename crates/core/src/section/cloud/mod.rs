@@ -67,7 +67,7 @@ use thiserror::Error;
 
 mod arcs;
 mod contour;
-mod grid;
+pub(crate) mod grid;
 mod spacing;
 
 use arcs::{merge_arcs, order_by_angle};

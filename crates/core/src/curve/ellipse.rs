@@ -11,6 +11,7 @@
 
 use crate::curve::lsq::FitErrors;
 use crate::curve::trig::{Frame, TrigCurve};
+use crate::geom::linalg::{scatter2, symmetric_eigen2};
 use crate::geom::math::{Real, Vec2};
 use crate::geom::tolerance::GEOMETRIC_EPS;
 
@@ -52,21 +53,8 @@ impl EllipseFit {
 /// eigenvalues (largest first).
 pub fn principal_axes(points: &[Vec2]) -> (Vec2, Real, Real) {
     let n = points.len().max(1) as Real;
-    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
-    for p in points {
-        sxx += p.x * p.x;
-        sxy += p.x * p.y;
-        syy += p.y * p.y;
-    }
-    let (sxx, sxy, syy) = (sxx / n, sxy / n, syy / n);
-    let mean = 0.5 * (sxx + syy);
-    let dev = (0.5 * (sxx - syy)).hypot(sxy);
-    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
-    (
-        Vec2::new(angle.cos(), angle.sin()),
-        mean + dev,
-        (mean - dev).max(0.0),
-    )
+    let (sxx, sxy, syy) = scatter2(points, Vec2::ZERO);
+    symmetric_eigen2(sxx / n, sxy / n, syy / n)
 }
 
 /// Fits the standard ellipse to `points` given relative to their centroid.

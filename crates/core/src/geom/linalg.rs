@@ -2,7 +2,7 @@
 //! row-major `Vec<Real>` matrices. Sizes here are tiny (a (2J+1)² Gram matrix,
 //! a K×K skinning system), so plain loops beat a general library.
 
-use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 
 /// A lower-triangular Cholesky factor `L` of a symmetric positive definite
 /// matrix `A = L Lᵀ`, stored row-major `n × n`.
@@ -172,6 +172,12 @@ impl Lu {
 /// unit eigenvectors of their scatter matrix: principal components.
 pub fn principal(pts: &[Point3]) -> (Point3, [Real; 3], [Vec3; 3]) {
     let c = pts.iter().fold(Vec3::ZERO, |a, &p| a + p) * (1.0 / pts.len() as Real);
+    let (vals, vecs) = symmetric_eigen3(scatter(pts, c));
+    (c, vals, vecs)
+}
+
+/// The scatter matrix `Σ (p − c)(p − c)ᵀ` of `pts` about `c`.
+pub fn scatter(pts: &[Point3], c: Point3) -> [[Real; 3]; 3] {
     let mut m = [[0.0; 3]; 3];
     for p in pts {
         let d = (*p - c).to_array();
@@ -181,8 +187,33 @@ pub fn principal(pts: &[Point3]) -> (Point3, [Real; 3], [Vec3; 3]) {
             }
         }
     }
-    let (vals, vecs) = symmetric_eigen3(m);
-    (c, vals, vecs)
+    m
+}
+
+/// The 2D scatter `(Σ dx², Σ dx dy, Σ dy²)` of `pts` about `c`, `d = p − c`.
+pub fn scatter2(pts: &[Point2], c: Point2) -> (Real, Real, Real) {
+    let (mut xx, mut xy, mut yy) = (0.0, 0.0, 0.0);
+    for p in pts {
+        let d = *p - c;
+        xx += d.x * d.x;
+        xy += d.x * d.y;
+        yy += d.y * d.y;
+    }
+    (xx, xy, yy)
+}
+
+/// The symmetric 2×2 matrix `[[xx, xy], [xy, yy]]`'s unit eigenvector of
+/// the larger eigenvalue, then both eigenvalues, larger first (the smaller
+/// at least 0, as for a scatter).
+pub fn symmetric_eigen2(xx: Real, xy: Real, yy: Real) -> (Vec2, Real, Real) {
+    let mean = 0.5 * (xx + yy);
+    let dev = (0.5 * (xx - yy)).hypot(xy);
+    let angle = 0.5 * (2.0 * xy).atan2(xx - yy);
+    (
+        Vec2::new(angle.cos(), angle.sin()),
+        mean + dev,
+        (mean - dev).max(0.0),
+    )
 }
 
 /// Eigen-decomposition of a symmetric 3×3 matrix by cyclic Jacobi rotations:

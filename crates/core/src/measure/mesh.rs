@@ -102,7 +102,7 @@ pub struct MeasureOptions {
     /// Relative accuracy of the curve perimeters (the trapezoid rule's
     /// doubling stops when two estimates agree to it). Default 1e-6: 1 µm
     /// on a 1 m girth. The curve's own default, 1e-10, doubles up to 2^16
-    /// samples on curves with tight bends (0.4 ms a curve measured).
+    /// samples on curves with tight bends.
     pub perimeter_accuracy: Real,
     /// Planes tried in each waist/hip search. Default 32.
     pub search_levels: usize,
@@ -111,13 +111,13 @@ pub struct MeasureOptions {
     pub volume_levels: usize,
     /// Samples per curve for the surface bands. Default 512: a band's
     /// triangles skew by up to half a sample spacing, which must stay well
-    /// under the slab thickness (at 96 samples the skew added 10 % area).
+    /// under the slab thickness.
     pub band_samples: usize,
     /// A section polygon is resampled to at least this many points evenly
     /// spaced by arc length before it is fitted. Default 256: a coarse
     /// mesh cuts a wrist in ~30 points, and an order-15 fit through 30
-    /// points oscillates between them (perimeter +25 % measured); the
-    /// dense polygon pins the curve to the straight edges.
+    /// points oscillates between them; the dense polygon pins the curve
+    /// to the straight edges.
     pub fit_samples: usize,
     /// The legs are measured from the first axis point this far below the
     /// crotch (fraction of `H`); the axis's first stretch runs from the
@@ -909,7 +909,7 @@ fn slice_stack(slicer: &MeshSlicer<'_>, opts: &MeasureOptions) -> Result<SliceSt
                 // Samples evenly spaced by arc length: rings of two levels
                 // then correspond by arc fraction. Equal steps of `v` do
                 // not: the parameter's speed differs between fits, and the
-                // band's triangles shear along the ring (+10 % area measured).
+                // band's triangles shear along the ring (adding area).
                 Ok(f) => {
                     let out = (
                         crate::section::mesh::resample_closed(&f.curve.sample(4 * m), m),

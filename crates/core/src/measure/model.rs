@@ -91,11 +91,10 @@
 //! inside the torso, its surface by inside tests of the quadrature nodes.
 //! The outlines of those inside tests are 32-gons scaled to their curves'
 //! areas (an inscribed 32-gon is 0.6 % short, and the overlap lies along
-//! the torso's outline: the overlap came out 2-5 % short of a raster's).
-//! Where the two skins nearly coincide (the top of the shoulder) the
-//! inside tests split that skin between the parts at random: the union's
-//! area is right on average, but it moved by 0.3-0.7 % of the body's area
-//! between slice settings (measured on the three shared bodies). The gap
+//! the torso's outline). Where the two skins nearly coincide (the top of
+//! the shoulder) the inside tests split that skin between the parts at
+//! random: the union's area is right on average but varies a little with
+//! the slice settings. The gap
 //! at the crotch between the torso's first section and the legs' counts
 //! as it is (open).
 

@@ -20,8 +20,8 @@
 //! whose nearest scan point lies on a rim is *over a hole*, and the
 //! observed-surface numbers leave it out (the plain numbers keep it).
 
-use crate::geom::linalg::symmetric_eigen3;
-use crate::geom::math::{Point3, Real};
+use crate::geom::linalg::{scatter, symmetric_eigen3};
+use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::parallel::parallel_map;
 use crate::spatial::point_grid::PointGrid;
 use std::collections::HashMap;
@@ -48,16 +48,7 @@ pub fn on_rim(q: Point3, neighbours: &[Point3]) -> bool {
     if offsets.len() < MIN_NEIGHBOURS {
         return true;
     }
-    let mut cov = [[0.0; 3]; 3];
-    for d in &offsets {
-        let a = d.to_array();
-        for (i, row) in cov.iter_mut().enumerate() {
-            for (j, c) in row.iter_mut().enumerate() {
-                *c += a[i] * a[j];
-            }
-        }
-    }
-    let (_, vectors) = symmetric_eigen3(cov);
+    let (_, vectors) = symmetric_eigen3(scatter(&offsets, Vec3::ZERO));
     let (e1, e2) = (vectors[0], vectors[1]);
     let mut angles: Vec<Real> = offsets.iter().map(|d| d.dot(e2).atan2(d.dot(e1))).collect();
     angles.sort_by(Real::total_cmp);

@@ -237,8 +237,8 @@ impl Landmarking<'_> {
             how: "the arm's branch merges into the trunk",
         };
         let side = if k == 0 { self.left } else { -self.left };
-        // A scan's hanging arms keep their branch: the cloud's surface graph
-        // would cost about 0.05 s and changed none of them.
+        // A scan's hanging arms keep their branch: a surface graph of the
+        // cloud costs time and does not move them.
         let on_mesh = matches!(self.body, BodyGeometry::Mesh(_));
         let found = match on_mesh
             .then(|| self.surface_arm(side, trunk, out))

@@ -7,7 +7,7 @@ use crate::geom::mesh::{Mesh, PointCloud};
 use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::section::cloud::{
     height_key, keyed_heights, section_of_slab, sort_keyed, sorted_heights, CloudSlicer,
-    ScanSectionOptions,
+    ScanSectionOptions, Slab,
 };
 use crate::section::mesh::{section_mesh, MeshSlicer, Plane, SectionLoop};
 use crate::segment::{HeightSort, PartAxis, PartCut, SegmentError, SegmentOptions, Segmentation};
@@ -528,7 +528,15 @@ impl<'a> Cutter<'a> {
         slab.sort_unstable();
         let ids: Vec<u32> = slab.iter().map(|k| k.1).collect();
         // The local cloud of a ball had no normals.
-        let section = section_of_slab(pos, None, axis, offset, &ids, t, g, &so);
+        let slab = Slab {
+            positions: pos,
+            normals: None,
+            axis,
+            offset,
+            ids: &ids,
+            half_thickness: t,
+        };
+        let section = section_of_slab(&slab, g, &so);
         section
             .loops
             .into_iter()

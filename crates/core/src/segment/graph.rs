@@ -387,3 +387,20 @@ pub(super) fn girth_contrast(g: &Graph, nodes: &[usize], min_node: usize) -> Rea
         0.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hull_perimeter_of_a_square() {
+        let sq = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.5, 0.5),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        assert!((hull_perimeter(&sq) - 4.0).abs() < 1e-12);
+    }
+}

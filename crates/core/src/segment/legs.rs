@@ -2,6 +2,7 @@
 //! the legs' axes, and the feet with their soles, heels and toes.
 
 use crate::anatomy::{Landmark, LandmarkKind, PartName};
+use crate::geom::linalg::{scatter2, symmetric_eigen2};
 use crate::geom::math::{Point2, Point3, Real, Vec2};
 use crate::segment::axis::smooth_axis;
 use crate::segment::branches::Trunk;
@@ -247,15 +248,7 @@ fn principal_2d(p: &[Point2]) -> Option<Vec2> {
     if p.len() < 3 {
         return None;
     }
-    let n = p.len() as Real;
-    let m = p.iter().fold(Vec2::ZERO, |s, &q| s + q) / n;
-    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
-    for q in p {
-        let d = *q - m;
-        sxx += d.x * d.x;
-        sxy += d.x * d.y;
-        syy += d.y * d.y;
-    }
-    let angle = 0.5 * (2.0 * sxy).atan2(sxx - syy);
-    Some(Vec2::new(angle.cos(), angle.sin()))
+    let m = p.iter().fold(Vec2::ZERO, |s, &q| s + q) / p.len() as Real;
+    let (sxx, sxy, syy) = scatter2(p, m);
+    Some(symmetric_eigen2(sxx, sxy, syy).0)
 }

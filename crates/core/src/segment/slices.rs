@@ -3,6 +3,7 @@
 
 use crate::anatomy::BodyGeometry;
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
+use crate::section::cloud::grid::Grid;
 use crate::section::cloud::{CloudSlicer, ScanSectionOptions};
 use crate::section::girth::convex_hull;
 use crate::section::mesh::{polygon_area_centroid, MeshSlicer, SectionLoop};
@@ -246,61 +247,21 @@ impl SlabComponents {
             g *= 1.5;
         }
         let (w, h) = dims(g);
-        let origin = min - Vec2::new(margin * g, margin * g);
-        let cell_of = |p: Point2| {
-            let x = (((p.x - origin.x) / g) as usize).min(w - 1);
-            let y = (((p.y - origin.y) / g) as usize).min(h - 1);
-            y * w + x
-        };
+        let grid = Grid::new(min - Vec2::new(margin * g, margin * g), g, w, h);
         let mut img = vec![false; w * h];
-        let cells: Vec<usize> = pts.iter().map(|&p| cell_of(p)).collect();
+        let cells: Vec<usize> = pts.iter().map(|&p| grid.cell(p)).collect();
         for &c in &cells {
             img[c] = true;
         }
-        let img = if r > 0 {
-            box_filter(&box_filter(&img, w, h, r, true), w, h, r, false)
-        } else {
-            img
-        };
-        // 8-connected components.
-        let mut label = vec![u32::MAX; w * h];
-        let mut comps: Vec<Vec<usize>> = Vec::new();
-        let mut stack = Vec::new();
-        for start in 0..w * h {
-            if !img[start] || label[start] != u32::MAX {
-                continue;
-            }
-            let id = comps.len() as u32;
-            let mut members = Vec::new();
-            label[start] = id;
-            stack.push(start);
-            while let Some(c) = stack.pop() {
-                members.push(c);
-                let (x, y) = ((c % w) as isize, (c / w) as isize);
-                for dy in -1..=1isize {
-                    for dx in -1..=1isize {
-                        let (nx, ny) = (x + dx, y + dy);
-                        if nx < 0 || ny < 0 || nx >= w as isize || ny >= h as isize {
-                            continue;
-                        }
-                        let nc = ny as usize * w + nx as usize;
-                        if img[nc] && label[nc] == u32::MAX {
-                            label[nc] = id;
-                            stack.push(nc);
-                        }
-                    }
-                }
-            }
-            comps.push(members);
-        }
-        let mut comp_points: Vec<Vec<Point2>> = vec![Vec::new(); comps.len()];
+        let (label, ncomp) = grid.components(&grid.close(&img, r));
+        let mut comp_points: Vec<Vec<Point2>> = vec![Vec::new(); ncomp];
         for (k, &c) in cells.iter().enumerate() {
             if let Some(v) = comp_points.get_mut(label[c] as usize) {
                 v.push(pts[k]);
             }
         }
         let mut out = Vec::new();
-        for id in 0..comps.len() {
+        for id in 0..ncomp {
             if comp_points[id].len() < self.min_points {
                 continue;
             }
@@ -322,61 +283,5 @@ impl SlabComponents {
             ));
         }
         out
-    }
-}
-
-/// Dilation (`dilate`) or erosion of a binary image by a square of radius
-/// `r`, separably (rows, then columns) with running counts.
-fn box_filter(img: &[bool], w: usize, h: usize, r: usize, dilate: bool) -> Vec<bool> {
-    let pass = |src: &[bool], len: usize, lines: usize, at: &dyn Fn(usize, usize) -> usize| {
-        let mut out = vec![false; src.len()];
-        for line in 0..lines {
-            let mut count = 0usize;
-            // Window [i - r, i + r]; out of range counts as unset.
-            for i in 0..r.min(len) {
-                count += usize::from(src[at(line, i)]);
-            }
-            for i in 0..len {
-                if i + r < len {
-                    count += usize::from(src[at(line, i + r)]);
-                }
-                if i > r {
-                    count -= usize::from(src[at(line, i - r - 1)]);
-                }
-                let full = 2 * r + 1;
-                out[at(line, i)] = if dilate { count > 0 } else { count == full };
-            }
-        }
-        out
-    };
-    let rows = pass(img, w, h, &|line, i| line * w + i);
-    pass(&rows, h, w, &|line, i| i * w + line)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::geom::math::Vec2;
-    use crate::segment::graph::hull_perimeter;
-
-    #[test]
-    fn hull_and_box_filter() {
-        let sq = [
-            Vec2::new(0.0, 0.0),
-            Vec2::new(1.0, 0.0),
-            Vec2::new(0.5, 0.5),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(0.0, 1.0),
-        ];
-        assert!((hull_perimeter(&sq) - 4.0).abs() < 1e-12);
-        // Closing a one-cell gap in a row with radius 1.
-        let (w, h) = (9, 5);
-        let mut img = vec![false; w * h];
-        for x in [2, 3, 5, 6] {
-            img[2 * w + x] = true;
-        }
-        let closed = box_filter(&box_filter(&img, w, h, 1, true), w, h, 1, false);
-        assert!((2..=6).all(|x| closed[2 * w + x]));
-        assert!(!closed[2 * w + 1] && !closed[2 * w + 7]);
     }
 }

@@ -10,7 +10,7 @@
 //!
 //! Four skinning schemes ([`Skinning`]), all producing polynomial patches:
 //!
-//! * **Catmull-Rom** (default, measured best; see the crate docs): a C1
+//! * **Catmull-Rom** (default; see "Which scheme" below): a C1
 //!   piecewise cubic Hermite through the curves' coefficient vectors, the
 //!   tangent at each curve the derivative of the parabola through it and its
 //!   two neighbours at their actual spacing (the non-uniform Catmull-Rom /
@@ -27,14 +27,12 @@
 //! **Twist.** Before skinning, each curve's parameter is shifted by the `φ`
 //! minimizing `∫ |C_{k+1}(v+φ) - C_k(v)|² dv` (see [`best_phase_shift`]).
 //!
-//! **Which scheme.** Measured on the leg (ankle to crotch) and torso (crotch
-//! to armpits) of three real bodies cut every 3 cm (`docs/skinning.md`):
-//! Catmull-Rom 0.54-0.62 mm RMS on legs and 0.88-1.05 mm on torsos, tied
-//! with the natural spline (within 6 % either way) and the unchained paper
-//! patches (within 7 %); the chained paper patches up to 2.5 times worse,
-//! because the Eq. 17 condition carries each patch's end slope, polynomial
-//! wiggles included, into the next. Catmull-Rom is the default for its
-//! locality; the paper's scheme is kept as an option.
+//! **Which scheme.** On legs and torsos (`docs/skinning.md`) Catmull-Rom,
+//! the natural spline and the unchained paper patches are about as close
+//! to the input; the chained paper patches are worse, because the Eq. 17
+//! condition carries each patch's end slope, polynomial wiggles included,
+//! into the next. Catmull-Rom is the default for its locality; the paper's
+//! scheme is kept as an option.
 //!
 //! ```
 //! use trigbody_core::{tessellate_part, CapKind, Frame, Part, PartOptions, TessellationOptions, TrigCurve, Vec3};

@@ -1,12 +1,13 @@
 //! The occupancy image of a slab (step 3 of the module docs of [`super`]):
-//! cells, morphological closing and 8-connected components.
+//! cells, morphological closing and 8-connected components. Also the
+//! slice graph's (`segment::slices`).
 
 use crate::geom::math::{Point2, Real, Vec2};
 
-pub(super) const NONE: u32 = u32::MAX;
+pub(crate) const NONE: u32 = u32::MAX;
 
 /// A square-celled image over the plane.
-pub(super) struct Grid {
+pub(crate) struct Grid {
     pub(super) origin: Vec2,
     pub(super) cell: Real,
     pub(super) w: usize,
@@ -14,11 +15,11 @@ pub(super) struct Grid {
 }
 
 impl Grid {
-    pub(super) fn new(origin: Vec2, cell: Real, w: usize, h: usize) -> Grid {
+    pub(crate) fn new(origin: Vec2, cell: Real, w: usize, h: usize) -> Grid {
         Grid { origin, cell, w, h }
     }
 
-    pub(super) fn cell(&self, p: Point2) -> usize {
+    pub(crate) fn cell(&self, p: Point2) -> usize {
         // `v as usize` is `v.floor().max(0.0) as usize` for every `v` (the
         // cast truncates, takes negatives and NaN to 0 and saturates),
         // without a call to `floor`.
@@ -29,7 +30,7 @@ impl Grid {
 
     /// Morphological closing by a (2r+1)² square: dilation then erosion,
     /// each separable into a row pass and a column pass.
-    pub(super) fn close(&self, img: &[bool], r: usize) -> Vec<bool> {
+    pub(crate) fn close(&self, img: &[bool], r: usize) -> Vec<bool> {
         if r == 0 {
             return img.to_vec();
         }
@@ -87,7 +88,7 @@ impl Grid {
 
     /// 8-connected components of the set cells: labels (NONE for unset)
     /// and their count, numbered in scan order.
-    pub(super) fn components(&self, img: &[bool]) -> (Vec<u32>, usize) {
+    pub(crate) fn components(&self, img: &[bool]) -> (Vec<u32>, usize) {
         let (w, h) = (self.w, self.h);
         let mut labels = vec![NONE; w * h];
         let mut n = 0u32;

@@ -67,7 +67,7 @@ use thiserror::Error;
 
 mod arcs;
 mod contour;
-mod grid;
+pub(crate) mod grid;
 mod spacing;
 
 use arcs::{merge_arcs, order_by_angle};
@@ -293,38 +293,49 @@ impl<'c> CloudSlicer<'c> {
             });
         }
         let normals = self.cloud.normals.as_deref().filter(|_| opts.use_normals);
-        Ok(section_of_slab(
-            &self.cloud.positions,
+        let slab = Slab {
+            positions: &self.cloud.positions,
             normals,
-            self.axis,
+            axis: self.axis,
             offset,
-            &self.order[lo..hi],
-            t,
-            g,
-            opts,
-        ))
+            ids: &self.order[lo..hi],
+            half_thickness: t,
+        };
+        Ok(section_of_slab(&slab, g, opts))
     }
 }
 
-/// The section of the slab `ids` (the points of `positions` within the
-/// half-thickness `t` of the plane `{p : p·axis = offset}`, sorted by
-/// height, at least [`ScanSectionOptions::min_slab_points`] of them) with
-/// occupancy cells of size `g`: steps 3-5 of the module doc. `axis` is a
-/// unit vector; `normals`, when given, are the cloud's (see
-/// [`onto_plane`]). Shared by [`CloudSlicer::section_at`] and the body
+/// A slab of a cloud: the points `ids` of `positions` within
+/// `half_thickness` of the plane `{p : p·axis = offset}`.
+pub(crate) struct Slab<'a> {
+    pub positions: &'a [Point3],
+    /// The cloud's normals, when used (see [`onto_plane`]).
+    pub normals: Option<&'a [Vec3]>,
+    /// A unit vector.
+    pub axis: Vec3,
+    pub offset: Real,
+    /// Sorted by height, at least [`ScanSectionOptions::min_slab_points`].
+    pub ids: &'a [u32],
+    pub half_thickness: Real,
+}
+
+/// The section of `slab` with occupancy cells of size `g`: steps 3-5 of
+/// the module doc. Shared by [`CloudSlicer::section_at`] and the body
 /// cutter (`segment::Cutter`), which finds its slabs without sorting the
 /// cloud for every plane.
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn section_of_slab(
-    positions: &[Point3],
-    normals: Option<&[Vec3]>,
-    axis: Vec3,
-    offset: Real,
-    ids: &[u32],
-    t: Real,
+    slab: &Slab<'_>,
     mut g: Real,
     opts: &ScanSectionOptions,
 ) -> ScanSection {
+    let &Slab {
+        positions,
+        normals,
+        axis,
+        offset,
+        ids,
+        half_thickness: t,
+    } = slab;
     let (e1, e2) = plane_axes(axis, opts.reference);
     let origin = axis * offset;
     let pts: Vec<Point2> = ids

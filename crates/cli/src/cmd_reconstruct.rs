@@ -190,25 +190,34 @@ fn table(r: &Report) -> String {
 }
 
 fn search_lines(out: &RateOutcome, goal: Goal) -> String {
-    let mut t = String::from("rate search (coarseness c: E_a, E_M x c, spacing x sqrt c):");
+    let mut t = String::from(
+        "rate search (coarseness c: E_a, E_M x c, spacing x sqrt c; then E_a, E_M x f):",
+    );
+    // A trial's settings: `c 2.130`, or `c 2.130 f 1.20` in the second search.
+    let at = |c: f64, f: f64| {
+        if f == 1.0 {
+            format!("c {c:.3}")
+        } else {
+            format!("c {c:.3} f {f:.2}")
+        }
+    };
     for trial in &out.trials {
+        let name = at(trial.coarseness, trial.tolerance);
         match (trial.design_parameters, trial.rms_mm) {
-            (Some(n), Some(r)) => {
-                t.push_str(&format!(" c {:.3}: {n} / {r:.2} mm;", trial.coarseness))
-            }
-            _ => t.push_str(&format!(" c {:.3}: failed;", trial.coarseness)),
+            (Some(n), Some(r)) => t.push_str(&format!(" {name}: {n} / {r:.2} mm;")),
+            _ => t.push_str(&format!(" {name}: failed;")),
         }
     }
     let what = match goal {
         Goal::TargetRms(mm) => format!("rms <= {mm} mm"),
         Goal::MaxParameters(n) => format!("<= {n} parameters"),
     };
+    let chosen = at(out.coarseness, out.tolerance);
     if out.met {
-        t.push_str(&format!("\nchose c {:.3} ({what})\n", out.coarseness));
+        t.push_str(&format!("\nchose {chosen} ({what})\n"));
     } else {
         t.push_str(&format!(
-            "\n{what} NOT met: the most accurate model tried (c {:.3})\n",
-            out.coarseness
+            "\n{what} NOT met: the most accurate model tried ({chosen})\n"
         ));
     }
     t

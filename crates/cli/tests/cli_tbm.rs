@@ -108,9 +108,26 @@ fn a_parameter_budget_is_never_exceeded() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("within 50 design parameters"));
 }
 
+/// The built-in body's RMS jumps from 1.77 to 2.17 mm between coarseness
+/// 2.13 and 2.19, and mh_base's from 1.30 to 2.44 mm between 1.12 and
+/// 1.15: the second search (curve tolerances alone) finds a model in
+/// between.
 #[test]
 fn a_target_rms_is_met_within_ten_percent() {
     let stdout = reconstruct_ok(&["--target-rms", "2.0"]);
     let rms = number_after(&stdout, "distance         rms");
     assert!((1.8..=2.0).contains(&rms), "rms {rms}: {stdout}");
+    let base =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/bodies/mh_base.obj");
+    if !base.is_file() {
+        eprintln!(
+            "NOTE: {} missing: --target-rms on mh_base NOT checked",
+            base.display()
+        );
+        return;
+    }
+    let base = base.to_string_lossy().to_string();
+    let stdout = reconstruct_ok(&[&base, "--target-rms", "2.0"]);
+    let rms = number_after(&stdout, "distance         rms");
+    assert!((1.8..=2.0).contains(&rms), "mh_base: rms {rms}: {stdout}");
 }

@@ -8,7 +8,11 @@
 //! spacing (body and feet) by `√c` and the refinement tolerance by `c`
 //! (`c = 1` is the given options), and a bisection on `log c` (a
 //! reconstruction per trial) finds the coarsest model that meets the
-//! target RMS, or the finest within the parameter budget. Allocating
+//! target RMS, or the finest within the parameter budget. Where the RMS
+//! jumps across a target between two trials (a section dropped or a
+//! transition left out as the spacing grows), a second bisection scales
+//! the curve tolerances alone, at the chosen coarseness, up to the
+//! coarsest trial's. Allocating
 //! parameters per part and per section where they lower the error most
 //! would do better at the same size; this search is what the global
 //! knobs can give.
@@ -57,6 +61,8 @@ impl Default for RateOptions {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Trial {
     pub coarseness: Real,
+    /// The curve tolerances' further factor (1 in the first search).
+    pub tolerance: Real,
     /// `None` when the reconstruction failed at this coarseness.
     pub design_parameters: Option<usize>,
     pub rms_mm: Option<Real>,
@@ -69,6 +75,8 @@ pub struct RateOutcome {
     pub report: Report,
     /// The chosen model's coarseness.
     pub coarseness: Real,
+    /// Its curve tolerances' further factor (E_a, E_M × `c` × this).
+    pub tolerance: Real,
     /// Whether it meets the goal (a target RMS below what the finest
     /// trial reaches is not met: the most accurate model is returned).
     pub met: bool,
@@ -100,7 +108,19 @@ pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
     o
 }
 
-type Evaluated = (Real, Result<(Body, Report), ReconstructError>);
+/// The options at coarseness `c` with the curve tolerances further
+/// scaled by `f`.
+fn at(base: &ReconstructOptions, c: Real, f: Real) -> ReconstructOptions {
+    let mut o = coarsened(base, c);
+    o.fit.ea *= f;
+    o.fit.em *= f;
+    o
+}
+
+/// A trial's coarseness, tolerance factor and result.
+type Evaluated = ((Real, Real), Result<(Body, Report), ReconstructError>);
+/// A kept model with its coarseness and tolerance factor.
+type Kept = ((Real, Real), Body, Report);
 
 /// Reconstructs `input` to meet `goal` (see the module's notes).
 pub fn reconstruct_for(
@@ -132,50 +152,50 @@ pub fn reconstruct_for(
         Goal::MaxParameters(_) => false,
     };
     let mut trials = Vec::new();
-    let mut evaluate = |c: Real| -> Evaluated {
-        let result = reconstruct(input, &coarsened(base, c));
+    let mut evaluate = |c: Real, f: Real| -> Evaluated {
+        let result = reconstruct(input, &at(base, c, f));
         let trial = Trial {
             coarseness: c,
+            tolerance: f,
             design_parameters: result.as_ref().ok().map(|(_, r)| r.design_parameters),
             rms_mm: result.as_ref().ok().map(|(_, r)| r.distance_mm.rms),
         };
         on_trial(&trial);
         trials.push(trial);
-        (c, result)
+        ((c, f), result)
     };
-    let mut best: Option<(Real, Body, Report)> = None;
+    let mut best: Option<Kept> = None;
     let mut first_error = None;
-    let mut any: Option<(Real, Body, Report)> = None;
-    let mut keep =
-        |(c, result): Evaluated, best: &mut Option<(Real, Body, Report)>| -> Option<bool> {
-            match result {
-                Ok((body, report)) => {
-                    let ok = feasible(&report);
-                    if ok && best.as_ref().is_none_or(|(_, _, b)| better(&report, b)) {
-                        *best = Some((c, body.clone(), report.clone()));
-                    }
-                    // The fallback when nothing is feasible: the most accurate
-                    // (target RMS) or the smallest (budget) model seen.
-                    let fallback = any.as_ref().is_none_or(|(_, _, a)| match goal {
-                        Goal::TargetRms(_) => report.distance_mm.rms < a.distance_mm.rms,
-                        Goal::MaxParameters(_) => report.design_parameters < a.design_parameters,
-                    });
-                    if fallback {
-                        any = Some((c, body, report));
-                    }
-                    Some(ok)
+    let mut any: Option<Kept> = None;
+    let mut keep = |(c, result): Evaluated, best: &mut Option<Kept>| -> Option<bool> {
+        match result {
+            Ok((body, report)) => {
+                let ok = feasible(&report);
+                if ok && best.as_ref().is_none_or(|(_, _, b)| better(&report, b)) {
+                    *best = Some((c, body.clone(), report.clone()));
                 }
-                Err(e) => {
-                    first_error.get_or_insert(e);
-                    None
+                // The fallback when nothing is feasible: the most accurate
+                // (target RMS) or the smallest (budget) model seen.
+                let fallback = any.as_ref().is_none_or(|(_, _, a)| match goal {
+                    Goal::TargetRms(_) => report.distance_mm.rms < a.distance_mm.rms,
+                    Goal::MaxParameters(_) => report.design_parameters < a.design_parameters,
+                });
+                if fallback {
+                    any = Some((c, body, report));
                 }
+                Some(ok)
             }
-        };
+            Err(e) => {
+                first_error.get_or_insert(e);
+                None
+            }
+        }
+    };
     // Feasibility holds on the fine side for a target RMS and on the coarse
     // side for a budget; bisect the bracket on log c.
     let fine_feasible = matches!(goal, Goal::TargetRms(_));
     let (mut lo, mut hi) = (options.min_coarseness.ln(), options.max_coarseness.ln());
-    let start = keep(evaluate(1.0), &mut best);
+    let start = keep(evaluate(1.0, 1.0), &mut best);
     match start {
         Some(true) if fine_feasible => lo = 0.0,
         Some(false) if fine_feasible => hi = 0.0,
@@ -183,15 +203,13 @@ pub fn reconstruct_for(
         Some(false) => lo = 0.0,
         None => {}
     }
-    let done = |best: &Option<(Real, Body, Report)>| {
-        best.as_ref().is_some_and(|(_, _, r)| close_enough(r))
-    };
+    let done = |best: &Option<Kept>| best.as_ref().is_some_and(|(_, _, r)| close_enough(r));
     for _ in 0..options.steps {
         if done(&best) {
             break;
         }
         let mid = 0.5 * (lo + hi);
-        match keep(evaluate(mid.exp()), &mut best) {
+        match keep(evaluate(mid.exp(), 1.0), &mut best) {
             // A failed reconstruction counts as too coarse.
             None => hi = mid,
             Some(ok) => {
@@ -203,6 +221,22 @@ pub fn reconstruct_for(
             }
         }
     }
+    // A target the RMS jumps across: coarser curve tolerances alone, at
+    // the chosen coarseness, up to the coarsest trial's.
+    if let (true, Some(((c, _), ..))) = (fine_feasible, &best) {
+        let c = *c;
+        let (mut lo, mut hi) = (0.0, (options.max_coarseness / c).max(1.0).ln());
+        for _ in 0..options.steps {
+            if done(&best) {
+                break;
+            }
+            let mid = 0.5 * (lo + hi);
+            match keep(evaluate(c, mid.exp()), &mut best) {
+                Some(true) => lo = mid,
+                _ => hi = mid,
+            }
+        }
+    }
     // Nothing feasible in the bracket: try its far end once.
     if best.is_none() {
         let end = if fine_feasible {
@@ -210,10 +244,10 @@ pub fn reconstruct_for(
         } else {
             options.max_coarseness
         };
-        keep(evaluate(end), &mut best);
+        keep(evaluate(end, 1.0), &mut best);
     }
     let met = best.is_some();
-    let Some((coarseness, body, report)) = best.or(any) else {
+    let Some(((coarseness, tolerance), body, report)) = best.or(any) else {
         return Err(first_error.map_or(
             RateError::BadGoal("no trial ran".to_string()),
             RateError::Reconstruct,
@@ -229,6 +263,7 @@ pub fn reconstruct_for(
         body,
         report,
         coarseness,
+        tolerance,
         met,
         trials,
     })

@@ -564,11 +564,35 @@ pub(in crate::body) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) 
 }
 
 /// A fit far outside its tolerances (three times either): a loop the
-/// section picked wrongly or a hole the fit could not bridge.
+/// section picked wrongly or a hole the fit could not bridge; or a curve
+/// that loops out between its points ([`loops_out`]).
 pub(in crate::body) fn wild(c: &Cut, opts: &ReconstructOptions) -> bool {
-    !c.fit.met
+    let off = !c.fit.met
         && (c.fit.errors.ea > 3.0 * opts.fit.ea * opts.scan_tolerance_factor
-            || c.fit.errors.em > 3.0 * opts.fit.em * opts.scan_tolerance_factor)
+            || c.fit.errors.em > 3.0 * opts.fit.em * opts.scan_tolerance_factor);
+    off || loops_out(&c.fit)
+}
+
+/// How much farther from a loop's centroid than its farthest point a
+/// fitted curve may reach ([`loops_out`]).
+const LOOPS_OUT: Real = 1.5;
+
+/// Whether the fitted curve reaches farther from the loop's centroid than
+/// [`LOOPS_OUT`] times the loop's farthest point: a high order fitted to
+/// points spaced unevenly (a foot outline's long straight edges) meets
+/// E_a and E_M at the points and swings out between them (a 100 mm foot
+/// outline with 181 mm coefficients made a leg's surface 3.6 m across).
+fn loops_out(fit: &LoopFit) -> bool {
+    let reach = fit
+        .plane_points
+        .iter()
+        .map(|p| p.norm())
+        .fold(0.0, Real::max);
+    let n = (8 * fit.order).max(64);
+    fit.curve
+        .sample_plane(n)
+        .iter()
+        .any(|q| q.norm() > LOOPS_OUT * reach)
 }
 
 /// Drops sections whose loop is implausible: area outside `[½, 2]` times
@@ -746,4 +770,36 @@ pub(in crate::body) fn refine(
         )?;
     }
     Ok(built)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curve::fit::fit_loop_2d;
+    use crate::geom::math::Vec2;
+
+    /// An ellipse's fit stays inside its points' reach; the same curve with
+    /// a large 20th harmonic added swings out between them.
+    #[test]
+    fn a_curve_swinging_out_between_its_points_loops_out() {
+        let pts: Vec<Vec2> = (0..64)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as Real / 64.0;
+                Vec2::new(0.1 * t.cos(), 0.04 * t.sin())
+            })
+            .collect();
+        let fit = fit_loop_2d(&pts, &FitOptions::default()).unwrap();
+        assert!(!loops_out(&fit));
+        let (mut a, mut b) = (fit.curve.a.clone(), fit.curve.b.clone());
+        a.resize(41, 0.0);
+        b.resize(41, 0.0);
+        a[39] = 0.2;
+        let curve = TrigCurve::new(fit.curve.frame, a, b).unwrap();
+        let wild = LoopFit {
+            curve,
+            order: 20,
+            ..fit
+        };
+        assert!(loops_out(&wild));
+    }
 }

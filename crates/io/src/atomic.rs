@@ -134,6 +134,15 @@ fn temporary_beside(path: &Path) -> PathBuf {
 mod tests {
     use super::*;
 
+    /// `remove_temporaries` removes every live temporary of the process,
+    /// those of a test running beside it too: the tests that write take
+    /// turns.
+    static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+    fn turn() -> std::sync::MutexGuard<'static, ()> {
+        TURN.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
     fn dir(name: &str) -> PathBuf {
         let d = std::env::temp_dir().join(format!("trigbody-atomic-{name}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&d);
@@ -147,6 +156,7 @@ mod tests {
 
     #[test]
     fn a_failed_write_leaves_the_old_file_and_no_temporary() {
+        let _turn = turn();
         let d = dir("fail");
         let p = d.join("a.txt");
         std::fs::write(&p, b"old").unwrap();
@@ -167,6 +177,7 @@ mod tests {
 
     #[test]
     fn replacing_needs_overwrite_and_leaves_nothing_else() {
+        let _turn = turn();
         let d = dir("replace");
         let p = d.join("a.txt");
         write_atomically(&p, false, |w| Ok(w.write_all(b"one")?)).unwrap();
@@ -181,6 +192,7 @@ mod tests {
 
     #[test]
     fn a_temporary_is_listed_while_it_is_written_and_removed_on_demand() {
+        let _turn = turn();
         let d = dir("live");
         let p = d.join("a.txt");
         std::fs::write(&p, b"old").unwrap();
@@ -211,6 +223,7 @@ mod tests {
     #[test]
     fn a_device_is_written_in_place() {
         use std::os::unix::fs::FileTypeExt;
+        let _turn = turn();
         write_atomically(Path::new("/dev/null"), false, |w| Ok(w.write_all(b"x")?)).unwrap();
         assert!(std::fs::metadata("/dev/null")
             .unwrap()

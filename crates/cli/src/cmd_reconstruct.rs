@@ -57,8 +57,9 @@ pub struct ReconstructArgs {
     #[command(flatten)]
     pub body: BodyFlags,
     /// Choose the spacing and tolerances (--spacing, --ea, --em scaled
-    /// together) for the smallest model within this symmetric RMS distance
-    /// to the input, in mm: a search over reconstructions (docs/compactness.md).
+    /// together, then --ea, --em alone) for the smallest model within this
+    /// symmetric RMS distance to the input, in mm: a search over
+    /// reconstructions (docs/compactness.md).
     #[arg(long, conflicts_with = "max_parameters")]
     pub target_rms: Option<Real>,
     /// The same for the most accurate model of at most N design parameters.

@@ -82,6 +82,20 @@ fn a_compact_model_is_written_read_and_refused_when_damaged() {
     }
 }
 
+/// A file of the shared data beside the repository (`rel` below
+/// `shared/data`), or `None` with a loud note that `what` is not checked.
+fn shared_file(rel: &str, what: &str) -> Option<String> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data")
+        .join(rel);
+    if path.is_file() {
+        Some(path.to_string_lossy().to_string())
+    } else {
+        eprintln!("NOTE: {} missing: {what} NOT checked", path.display());
+        None
+    }
+}
+
 /// `trigbody reconstruct ARGS` on the built-in body: its printout, after
 /// checking that it succeeded.
 fn reconstruct_ok(args: &[&str]) -> String {
@@ -117,16 +131,9 @@ fn a_target_rms_is_met_within_ten_percent() {
     let stdout = reconstruct_ok(&["--target-rms", "2.0"]);
     let rms = number_after(&stdout, "distance         rms");
     assert!((1.8..=2.0).contains(&rms), "rms {rms}: {stdout}");
-    let base =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/bodies/mh_base.obj");
-    if !base.is_file() {
-        eprintln!(
-            "NOTE: {} missing: --target-rms on mh_base NOT checked",
-            base.display()
-        );
+    let Some(base) = shared_file("bodies/mh_base.obj", "--target-rms on mh_base") else {
         return;
-    }
-    let base = base.to_string_lossy().to_string();
+    };
     let stdout = reconstruct_ok(&[&base, "--target-rms", "2.0"]);
     let rms = number_after(&stdout, "distance         rms");
     assert!((1.8..=2.0).contains(&rms), "mh_base: rms {rms}: {stdout}");
@@ -138,16 +145,9 @@ fn a_target_rms_is_met_within_ten_percent() {
 /// Such curves are dropped (`loops_out`); every trial stays a body.
 #[test]
 fn a_target_search_never_builds_a_wild_part() {
-    let path =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/corpus/body_008.ply");
-    if !path.is_file() {
-        eprintln!(
-            "NOTE: {} missing: the wild-part search NOT checked",
-            path.display()
-        );
+    let Some(path) = shared_file("corpus/body_008.ply", "the wild-part search") else {
         return;
-    }
-    let path = path.to_string_lossy().to_string();
+    };
     let stdout = reconstruct_ok(&[&path, "--units", "mm", "--target-rms", "2.0"]);
     let line = stdout
         .lines()

@@ -9,6 +9,7 @@
 mod common;
 
 use common::shared_data;
+use trigbody_core::internals::geom::stats::median;
 use trigbody_core::internals::segment::cut_part;
 use trigbody_core::{clean_cloud, virtual_scan, CleanOptions, ScannerOptions};
 use trigbody_core::{segment, BodyGeometry, LandmarkKind, PartName, SegmentOptions, Segmentation};
@@ -600,8 +601,7 @@ fn a_scan_arm_s_shoulder_extension_follows_the_arm() {
                 let w: Vec<usize> = (i.saturating_sub(4)..(i + 5).min(n)).collect();
                 let med = |f: &dyn Fn(usize) -> f64| {
                     let mut v: Vec<f64> = w.iter().map(|&j| f(j)).collect();
-                    v.sort_by(f64::total_cmp);
-                    v[v.len() / 2]
+                    median(&mut v).unwrap()
                 };
                 let r = med(&|j| axis.radii[j]);
                 let c = Point3::new(

@@ -817,9 +817,10 @@ impl LimbPlans<'_> {
             warnings,
         );
         cuts.pop(); // the wrist itself starts the hand's run
-                    // A scan's slab past the palm merges the fingers, the thumb and the
-                    // scanner's gaps into blobs whose sections fold: its hand ends
-                    // where the loop falls under the palm with its thumb.
+
+        // A scan's slab past the palm merges the fingers, the thumb and the
+        // scanner's gaps into blobs whose sections fold: its hand ends
+        // where the loop falls under the palm with its thumb.
         let against = match self.cutter.body() {
             BodyGeometry::Mesh(_) => EndArea::First,
             BodyGeometry::Cloud(_) => EndArea::Largest,

@@ -611,15 +611,13 @@ pub(super) fn cut_to_rounded_end(
             };
             failed = 0;
             if t >= watch_from {
-                if reference > 0.0 && c.area < opts.end_area_fraction * reference {
+                let shrunk = reference > 0.0 && c.area < opts.end_area_fraction * reference;
+                if shrunk || out.last().is_some_and(|p| !follows(p, &c)) {
                     return out;
                 }
                 if against == EndArea::Largest || reference == 0.0 {
                     reference = reference.max(c.area);
                 }
-            }
-            if t >= watch_from && out.last().is_some_and(|p| !follows(p, &c)) {
-                return out;
             }
             out.push(c);
         }

@@ -578,6 +578,7 @@ fn reconstruct_steps(
             start_cap: CapKind::Open,
             end_cap: CapKind::Open,
             tip: None,
+            tip_estimated: false,
             shoulders,
         })
     };
@@ -775,23 +776,37 @@ impl LimbPlans<'_> {
     /// The head: from the neck to a rounded top closed by a dome.
     fn head(&self, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
         let name = PartName::Head;
+        let mut cuts = cut_to_rounded_end(
+            self.cutter,
+            name,
+            RoundedEnd {
+                t0: 0.0,
+                watch_from: 0.5,
+                step,
+                against: EndArea::Largest,
+            },
+            self.opts,
+            warnings,
+        );
+        let mut tip = axis.points.last().copied();
+        let crown = unseen_crown(&cuts, self.cutter.body().positions(), self.seg.frame.up);
+        if let Some(c) = crown {
+            warnings.push(format!(
+                "{name}: the input ends in an open rim {:.0} mm across above the head (its crown unseen): the crown is estimated from the head's shape, {:.0} mm above the rim; {} section(s) at the rim dropped",
+                2.0 * c.rim_radius * self.opts.units.to_mm(),
+                c.rise * self.opts.units.to_mm(),
+                cuts.len() - c.keep,
+            ));
+            cuts.truncate(c.keep);
+            tip = Some(c.tip);
+        }
         Plan {
             name,
-            cuts: cut_to_rounded_end(
-                self.cutter,
-                name,
-                RoundedEnd {
-                    t0: 0.0,
-                    watch_from: 0.5,
-                    step,
-                    against: EndArea::Largest,
-                },
-                self.opts,
-                warnings,
-            ),
+            cuts,
             start_cap: CapKind::Open,
             end_cap: CapKind::dome(),
-            tip: axis.points.last().copied(),
+            tip,
+            tip_estimated: crown.is_some(),
             shoulders: Shoulders::default(),
         }
     }
@@ -838,6 +853,7 @@ impl LimbPlans<'_> {
             start_cap: CapKind::Open,
             end_cap: CapKind::dome(),
             tip: axis.points.last().copied(),
+            tip_estimated: false,
             shoulders: Shoulders::default(),
         }
     }
@@ -905,6 +921,7 @@ impl LimbPlans<'_> {
                 axis: DomeAxis::Normal,
             },
             tip: sole,
+            tip_estimated: false,
             shoulders: Shoulders::default(),
         }
     }

@@ -24,6 +24,7 @@ pub(in crate::body) fn build_part(
         start_cap,
         mut end_cap,
         tip,
+        tip_estimated,
         shoulders: _,
     } = plan;
     let mut dome_retries = 0;
@@ -100,7 +101,9 @@ pub(in crate::body) fn build_part(
                         continue;
                     }
                 }
-                if let (Some(check), false, false) = (end_check, sole, end_measured) {
+                // An estimated tip has no input around it to measure against.
+                let measure = !(sole || end_measured || tip_estimated);
+                if let (Some(check), true) = (end_check, measure) {
                     end_measured = true;
                     if let Some((k, before, after)) = better_end(&cuts, &part, tip, &options, check)
                     {
@@ -654,6 +657,7 @@ pub(in crate::body) fn refine(
     let (body, seg) = (cutter.body(), cutter.segmentation());
     let name = plan.name;
     let (start_cap, tip, shoulders) = (plan.start_cap, plan.tip, plan.shoulders);
+    let tip_estimated = plan.tip_estimated;
     let far = opts.max_curve_offset * seg.height;
     // How far a fitted curve may stray from its loop's straight side and
     // still be on it.
@@ -759,6 +763,7 @@ pub(in crate::body) fn refine(
             start_cap,
             end_cap,
             tip,
+            tip_estimated,
             shoulders,
         };
         (built, cuts) = build_part(

@@ -7,7 +7,9 @@ use crate::geom::stats::{median, nth_smallest};
 use crate::section::mesh::point_in_polygon;
 
 mod build;
+mod crown;
 pub(super) use build::*;
+pub(super) use crown::*;
 
 /// One cut-and-fitted section.
 pub(super) struct Cut {
@@ -509,6 +511,9 @@ pub(super) struct Plan {
     pub(super) end_cap: CapKind,
     /// For a dome end: the tip the dome should reach.
     pub(super) tip: Option<Point3>,
+    /// Whether the tip is an estimate beyond the input (an unseen crown):
+    /// the end is then not checked against the input.
+    pub(super) tip_estimated: bool,
     /// How the torso meets the arms (torso only).
     pub(super) shoulders: Shoulders,
 }

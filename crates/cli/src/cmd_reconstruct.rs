@@ -91,6 +91,12 @@ pub struct BodyFlags {
     #[arg(long, default_value_t = ReconstructOptions::default().spacing,
           value_parser = crate::bounds::real_in(0.002, 0.2))]
     pub spacing: Real,
+    /// A scan is reconstructed in this many frames (as given, then turned
+    /// about its up axis in 15° steps) and the model nearest the scan
+    /// kept; 1 reconstructs it once (faster). Meshes are reconstructed once.
+    #[arg(long, default_value_t = ReconstructOptions::default().scan_frames,
+          value_parser = crate::bounds::count_in(1usize, trigbody_core::MAX_SCAN_FRAMES))]
+    pub scan_frames: usize,
     /// Average relative error tolerance E_a of every section.
     #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EA, value_parser = crate::bounds::tolerance_ea)]
     pub ea: Real,
@@ -109,6 +115,7 @@ impl BodyFlags {
                 UnitsFlag::Mm => Units::Millimetres,
             },
             spacing: self.spacing,
+            scan_frames: self.scan_frames,
             ..ReconstructOptions::default()
         };
         options.segment.up = self.up_axis;

@@ -131,6 +131,11 @@ fn resource_bounds_are_exit_2_naming_the_option_and_its_range() {
     );
     c(&["reconstruct", "--spacing", "NaN"], "--spacing");
     c(
+        &["reconstruct", "--scan-frames", "0"],
+        "'--scan-frames <SCAN_FRAMES>': must be a whole number in 1..=6",
+    );
+    c(&["reconstruct", "--scan-frames", "7"], "1..=6");
+    c(
         &["plot-sections", BODY, "--panel-size", "0", "-o", "p.png"],
         "--panel-size <PANEL_SIZE>': must be a whole number in 64..=4096",
     );
@@ -159,7 +164,7 @@ fn resource_bounds_are_exit_2_naming_the_option_and_its_range() {
         "--along",
     );
     assert!(!d.join("s.ply").exists() && !d.join("p.png").exists() && !d.join("m.obj").exists());
-    assert_eq!(n, 13);
+    assert_eq!(n, 15);
     // Nor a hidden temporary: only the model file is there.
     let names: Vec<String> = std::fs::read_dir(&d)
         .unwrap()

@@ -715,3 +715,64 @@ fn a_scan_without_its_crown_gets_one_near_the_true_crown() {
     println!("the scan without its crown: top {miss:+.1} mm");
     assert!(miss.abs() <= 20.0, "{miss:+.1} mm");
 }
+
+/// A scan is reconstructed in `scan_frames` frames and the model nearest
+/// its input kept: never farther than the as-given frame alone (the first
+/// frame is that reconstruction), returned in the scan's own frame (its
+/// surface as near the scan as the report says), and the frames named in a
+/// warning. A mesh is reconstructed once. The built-in body, always present.
+#[test]
+fn a_scan_s_best_frame_is_kept_and_returned_in_the_scan_s_frame() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
+    let mesh = read_mesh(&path, &ReadOptions::default()).unwrap();
+    let scan = virtual_scan(&mesh, &ScannerOptions::default())
+        .unwrap()
+        .cloud;
+    let once = ReconstructOptions {
+        scan_frames: 1,
+        ..ReconstructOptions::default()
+    };
+    let (single, r1) = reconstruct(BodyGeometry::Cloud(&scan), &once).unwrap();
+    let three = ReconstructOptions {
+        scan_frames: 3,
+        ..ReconstructOptions::default()
+    };
+    let (best, r3) = reconstruct(BodyGeometry::Cloud(&scan), &three).unwrap();
+    println!(
+        "one frame {:.2} mm, best of three {:.2} mm",
+        r1.distance_mm.rms, r3.distance_mm.rms
+    );
+    assert!(r3.distance_mm.rms <= r1.distance_mm.rms + 1e-9);
+    let frames: Vec<&String> = r3
+        .warnings
+        .iter()
+        .filter(|w| w.contains("3 frames"))
+        .collect();
+    assert_eq!(frames.len(), 1, "{:?}", r3.warnings);
+    assert!(!r1.warnings.iter().any(|w| w.contains("frames")));
+    // In the scan's frame: up as found from the scan, and the surface on
+    // the scan's points (the report's input -> model RMS, within sampling).
+    assert!(
+        best.frame.up.dot(single.frame.up) > 0.999,
+        "{:?}",
+        best.frame.up
+    );
+    let d = MeshDistance::new(&surface(&best)).distances(&scan.positions);
+    let rms = DistanceStats::of(&d).rms * 1000.0;
+    assert!(
+        (rms - r3.input_to_model_mm.rms).abs() < 0.3,
+        "{rms} against {}",
+        r3.input_to_model_mm.rms
+    );
+    // A mesh: once, whatever the option.
+    let (_, rm) = reconstruct(BodyGeometry::Mesh(&mesh), &three).unwrap();
+    assert!(!rm.warnings.iter().any(|w| w.contains("frames")));
+    for bad in [0, trigbody_core::MAX_SCAN_FRAMES + 1] {
+        let o = ReconstructOptions {
+            scan_frames: bad,
+            ..ReconstructOptions::default()
+        };
+        let e = reconstruct(BodyGeometry::Cloud(&scan), &o).unwrap_err();
+        assert!(e.to_string().contains("scan_frames"), "{e}");
+    }
+}

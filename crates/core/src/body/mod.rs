@@ -86,6 +86,7 @@ use std::fmt;
 use thiserror::Error;
 
 mod cavity;
+mod frames;
 mod plan;
 mod pose;
 pub mod rate;
@@ -209,6 +210,11 @@ pub struct ReconstructOptions {
     /// A scan's floor and stray points removed before segmentation
     /// ([`crate::spatial::cloud_clean`]; its `up` is taken from `segment.up`).
     pub clean: CleanOptions,
+    /// A scan is reconstructed in this many frames (as given, then turned
+    /// about its up axis in 15° steps) and the model nearest its input
+    /// kept (`body/frames.rs`); 1 reconstructs it once. Meshes are
+    /// reconstructed once, in their own frame. Default 3.
+    pub scan_frames: usize,
 }
 
 impl Default for ReconstructOptions {
@@ -233,9 +239,14 @@ impl Default for ReconstructOptions {
             coverage_mm: 5.0,
             skin_depth: 0.0003,
             clean: CleanOptions::default(),
+            scan_frames: 3,
         }
     }
 }
+
+/// The most frames [`ReconstructOptions::scan_frames`] allows: 6 frames
+/// 15° apart span the 90° after which an axis-aligned grid repeats.
+pub const MAX_SCAN_FRAMES: usize = 6;
 
 /// What went wrong in [`reconstruct`].
 #[derive(Debug, Error, PartialEq)]
@@ -424,6 +435,13 @@ fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
     pos("max_curve_offset", o.max_curve_offset)?;
     pos("coverage_mm", o.coverage_mm)?;
     pos("skin_depth", o.skin_depth)?;
+    if !(1..=MAX_SCAN_FRAMES).contains(&o.scan_frames) {
+        return Err(ReconstructError::BadOption {
+            name: "scan_frames",
+            value: o.scan_frames as Real,
+            why: "must be 1 to 6 (the frames lie 15° apart)",
+        });
+    }
     if o.spacing > 0.2 || o.foot_spacing > 0.2 {
         return Err(ReconstructError::BadOption {
             name: "spacing",
@@ -511,7 +529,12 @@ pub fn reconstruct_with_progress(
         &own_opts,
     );
     let own_opts = prepared.options(&own_opts);
-    let (model, mut report) = reconstruct_steps(prepared.geometry(), &own_opts, &mut progress)?;
+    let (model, mut report) = match prepared.geometry() {
+        BodyGeometry::Cloud(cloud) if own_opts.scan_frames > 1 => {
+            frames::best_of_frames(cloud, &own_opts, &mut progress)?
+        }
+        input => reconstruct_steps(input, &own_opts, &mut progress)?,
+    };
     let mut warnings = prepared.warnings(&mut report, opts.units);
     warnings.append(&mut report.warnings);
     report.warnings = warnings;
@@ -721,209 +744,6 @@ fn head_cavities(
     match head_run {
         Some(run) => find_cavities(cutter, PartName::Head, run, input, opts, warnings),
         None => Vec::new(),
-    }
-}
-
-/// What the head's, arms' and legs' section plans need: the cutter, the
-/// segmentation (legs extended to the floor) and the original one, the
-/// options, the floor's height and the level the legs start below.
-struct LimbPlans<'a> {
-    cutter: &'a Cutter<'a>,
-    seg: &'a Segmentation,
-    seg0: &'a Segmentation,
-    opts: &'a ReconstructOptions,
-    floor: Real,
-    leg_top: Real,
-}
-
-impl LimbPlans<'_> {
-    /// Every part's plan but the torso's and the feet's (the legs cover
-    /// them with shoe ends), in [`PartName::ALL`]'s order, and whether the
-    /// segmentation has a torso to plan after them.
-    fn plans(
-        &self,
-        progress: &mut dyn FnMut(&str),
-        warnings: &mut Vec<String>,
-    ) -> (Vec<Plan>, bool) {
-        let mut plans = Vec::new();
-        let mut with_torso = false;
-        let feet = [PartName::LeftFoot, PartName::RightFoot];
-        for name in PartName::ALL.into_iter().filter(|n| !feet.contains(n)) {
-            let Some(axis) = self.seg.part(name) else {
-                warnings.push(format!("{name} not found: left out of the model"));
-                continue;
-            };
-            let len = axis.length();
-            if !(len > 0.0) {
-                warnings.push(format!("{name}: axis of zero length, left out"));
-                continue;
-            }
-            if name == PartName::Torso {
-                with_torso = true;
-                continue;
-            }
-            progress(&format!("sections: {name}"));
-            let step = self.opts.spacing * self.seg.height / len;
-            plans.push(match name {
-                PartName::Head => self.head(axis, step, warnings),
-                PartName::LeftArm | PartName::RightArm => self.arm(name, axis, step, warnings),
-                _ => self.leg(name, axis, step, warnings),
-            });
-        }
-        (plans, with_torso)
-    }
-
-    /// The head: from the neck to a rounded top closed by a dome.
-    fn head(&self, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
-        let name = PartName::Head;
-        let mut cuts = cut_to_rounded_end(
-            self.cutter,
-            name,
-            RoundedEnd {
-                t0: 0.0,
-                watch_from: 0.5,
-                step,
-                against: EndArea::Largest,
-            },
-            self.opts,
-            warnings,
-        );
-        let mut tip = axis.points.last().copied();
-        let crown = unseen_crown(&cuts, self.cutter.body().positions(), self.seg.frame.up);
-        if let Some(c) = crown {
-            warnings.push(format!(
-                "{name}: the input ends in an open rim {:.0} mm across above the head (its crown unseen): the crown is estimated from the head's shape, {:.0} mm above the rim; {} section(s) at the rim dropped",
-                2.0 * c.rim_radius * self.opts.units.to_mm(),
-                c.rise * self.opts.units.to_mm(),
-                cuts.len() - c.keep,
-            ));
-            cuts.truncate(c.keep);
-            tip = Some(c.tip);
-        }
-        Plan {
-            name,
-            cuts,
-            start_cap: CapKind::Open,
-            end_cap: CapKind::dome(),
-            tip,
-            tip_estimated: crown.is_some(),
-            shoulders: Shoulders::default(),
-        }
-    }
-
-    /// An arm: evenly to the wrist, finely over the hand to a dome.
-    fn arm(&self, name: PartName, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
-        let (opts, h, len) = (self.opts, self.seg.height, axis.length());
-        let wrist_kind = if name == PartName::LeftArm {
-            LandmarkKind::LeftWrist
-        } else {
-            LandmarkKind::RightWrist
-        };
-        let wrist = landmark(self.seg, wrist_kind)
-            .map(|w| fraction_of(axis, w))
-            .unwrap_or(0.8);
-        let fine = (0.5 * step).max(0.25 * opts.foot_spacing * h / len);
-        let mut cuts = cut_all(
-            self.cutter,
-            name,
-            &fractions(0.0, wrist, step),
-            opts,
-            Shoulders::default(),
-            warnings,
-        );
-        cuts.pop(); // the wrist itself starts the hand's run
-
-        // A scan's slab past the palm merges the fingers, the thumb and the
-        // scanner's gaps into blobs whose sections fold: its hand ends
-        // where the loop falls under the palm with its thumb.
-        let against = match self.cutter.body() {
-            BodyGeometry::Mesh(_) => EndArea::First,
-            BodyGeometry::Cloud(_) => EndArea::Largest,
-        };
-        let hand = RoundedEnd {
-            t0: wrist,
-            watch_from: wrist,
-            step: fine,
-            against,
-        };
-        cuts.extend(cut_to_rounded_end(self.cutter, name, hand, opts, warnings));
-        Plan {
-            name,
-            cuts,
-            start_cap: CapKind::Open,
-            end_cap: CapKind::dome(),
-            tip: axis.points.last().copied(),
-            tip_estimated: false,
-            shoulders: Shoulders::default(),
-        }
-    }
-
-    /// A leg: evenly to the ankle, finely below it to the sole.
-    fn leg(&self, name: PartName, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
-        let (opts, h, len, up) = (self.opts, self.seg.height, axis.length(), self.seg.frame.up);
-        let ankle_kind = if name == PartName::LeftLeg {
-            LandmarkKind::LeftAnkle
-        } else {
-            LandmarkKind::RightAnkle
-        };
-        let orig = self.seg0.part(name).map(PartAxis::length).unwrap_or(len);
-        let ankle = landmark(self.seg, ankle_kind)
-            .map(|a| fraction_of(axis, a))
-            .unwrap_or(orig / len)
-            .min(orig / len);
-        let t0 = fraction_at_level(axis, up, self.leg_top, false);
-        let upper = (ankle - 0.02 * h / len).max(t0);
-        let mut cuts = cut_all(
-            self.cutter,
-            name,
-            &fractions(t0, upper, step),
-            opts,
-            Shoulders::default(),
-            warnings,
-        );
-        cuts.pop();
-        // Below the ankle: horizontal outlines of the foot until they
-        // shrink where the sole curves up (heel, toes).
-        let foot = ReconstructOptions {
-            end_area_fraction: opts.sole_area_fraction,
-            ..*opts
-        };
-        let outlines = RoundedEnd {
-            t0: upper,
-            watch_from: ankle,
-            step: opts.foot_spacing * h / len,
-            against: EndArea::Largest,
-        };
-        cuts.extend(cut_to_rounded_end(
-            self.cutter,
-            name,
-            outlines,
-            &foot,
-            warnings,
-        ));
-        // The sole: a shallow dome from the last outline down to the foot's
-        // own bottom below its centre (a foot lifted off the floor, a bent
-        // knee's, ends above it), along the outline's normal: the outlines'
-        // centres shift from heel to toe, so the end tangent leans forward
-        // or back and a dome along it runs sideways, not down.
-        let sole = cuts.last().map(|c| {
-            let o = c.fit.curve.frame.origin;
-            let level = sole_level(self.cutter.body(), &c.fit.curve, up, self.floor);
-            o - up * (o.dot(up) - level)
-        });
-        Plan {
-            name,
-            cuts,
-            start_cap: CapKind::Open,
-            end_cap: CapKind::Dome {
-                relative_height: 0.0,
-                fullness: 1.0,
-                axis: DomeAxis::Normal,
-            },
-            tip: sole,
-            tip_estimated: false,
-            shoulders: Shoulders::default(),
-        }
     }
 }
 

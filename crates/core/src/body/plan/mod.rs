@@ -8,8 +8,10 @@ use crate::section::mesh::point_in_polygon;
 
 mod build;
 mod crown;
+mod limbs;
 pub(super) use build::*;
 pub(super) use crown::*;
+pub(super) use limbs::*;
 
 /// One cut-and-fitted section.
 pub(super) struct Cut {
@@ -628,6 +630,22 @@ pub(super) fn cut_to_rounded_end(
         }
     }
     out
+}
+
+/// Whether the torso's axis `torso` pierces `cut`'s plane inside its
+/// fitted curve: the loop holds the trunk, not only an arm (a raised arm's
+/// first cuts across its own axis run through the chest and the shoulder).
+pub(super) fn holds_axis(cut: &Cut, torso: &PartAxis) -> bool {
+    let c = &cut.fit.curve;
+    let outline = c.sample_plane(96);
+    torso.points.windows(2).any(|w| {
+        let (h0, h1) = (c.frame.height(w[0]), c.frame.height(w[1]));
+        if h0 * h1 > 0.0 || h0 == h1 {
+            return false;
+        }
+        let q = w[0] + (w[1] - w[0]) * (h0 / (h0 - h1));
+        point_in_polygon(c.frame.to_plane(q), &outline)
+    })
 }
 
 /// Whether `next` continues the part `prev` belongs to: its centre lies

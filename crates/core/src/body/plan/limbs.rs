@@ -111,6 +111,16 @@ impl LimbPlans<'_> {
             warnings,
         );
         cuts.pop(); // the wrist itself starts the hand's run
+                    // The arm starts where its loops leave the trunk.
+        if let Some(torso) = self.seg.part(PartName::Torso) {
+            let k = cuts.iter().take_while(|c| holds_axis(c, torso)).count();
+            if k > 0 && k < cuts.len() / 2 {
+                warnings.push(format!(
+                    "{name}: first {k} section(s) dropped (their loops hold the torso's axis)"
+                ));
+                cuts.drain(..k);
+            }
+        }
         if std::env::var("TB_AX").is_ok() {
             if let Some(torso) = self.seg.part(PartName::Torso) {
                 let k = cuts.iter().take_while(|c| holds_axis(c, torso)).count();

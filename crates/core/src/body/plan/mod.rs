@@ -634,7 +634,7 @@ pub(super) fn cut_to_rounded_end(
 
 /// Whether the torso's axis `torso` pierces `cut`'s plane inside its
 /// fitted curve: the loop holds the trunk, not only an arm (a raised arm's
-/// first cuts across its own axis run through the chest and the shoulder).
+/// first cuts across its own axis can run through the chest and shoulder).
 pub(super) fn holds_axis(cut: &Cut, torso: &PartAxis) -> bool {
     let c = &cut.fit.curve;
     let outline = c.sample_plane(96);
@@ -956,6 +956,41 @@ mod tests {
         assert!(follows(&foot, &cut(0.03)));
         assert!(follows(&foot, &cut(0.14)));
         assert!(!follows(&foot, &cut(0.25)));
+    }
+
+    /// An arm's cut holds the torso's axis where the axis pierces its
+    /// plane inside the loop; not beside the loop, nor where the axis ends
+    /// below the plane.
+    #[test]
+    fn a_loop_round_the_torso_s_axis_holds_it() {
+        let cut = |x: Real| {
+            let points: Vec<Point3> = (0..64)
+                .map(|i| {
+                    let t = std::f64::consts::TAU * i as Real / 64.0;
+                    Point3::new(x + 0.05 * t.cos(), 0.1 * t.sin(), 0.02)
+                })
+                .collect();
+            let fit = fit_loop(&points, &FitOptions::default()).unwrap();
+            let area = fit.curve.area().abs();
+            Cut {
+                at: 0.0,
+                fit,
+                area,
+                clips: Vec::new(),
+            }
+        };
+        let torso = |top: Real| PartAxis {
+            name: PartName::Torso,
+            points: (0..=10)
+                .map(|i| Point3::new(0.01, 0.0, -1.0 + (top + 1.0) * i as Real / 10.0))
+                .collect(),
+            radii: vec![0.15; 11],
+            start: LandmarkKind::Crotch,
+            end: LandmarkKind::Neck,
+        };
+        assert!(holds_axis(&cut(0.0), &torso(1.0)));
+        assert!(!holds_axis(&cut(0.25), &torso(1.0)));
+        assert!(!holds_axis(&cut(0.0), &torso(0.0)));
     }
 
     /// A foot lifted 3 cm off the floor: its sole is its own lowest points

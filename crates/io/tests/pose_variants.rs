@@ -270,3 +270,55 @@ fn re_posed_and_re_shaped_bodies_reconstruct() {
         }
     }
 }
+
+/// The built-in body with its left arm raised above its head (the hand
+/// the body's highest point): the head's top is the head's, not the
+/// hand's height, and the model's head ends there.
+#[test]
+fn a_hand_raised_above_the_head_is_not_the_head_top() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
+    let mesh = read_mesh(&path, &ReadOptions::default()).expect("reads the built-in body");
+    let seg = segment(BodyGeometry::Mesh(&mesh), &SegmentOptions::default()).expect("segments");
+    let up = seg.frame.up;
+    let head = seg.part(PartName::Head).expect("a head");
+    let column = *head.points.last().unwrap();
+    let height = |m: &Mesh, reach: Real| {
+        m.positions
+            .iter()
+            .filter(|&&p| {
+                let d = p - column;
+                (d - up * d.dot(up)).norm() <= reach
+            })
+            .map(|p| p.dot(up))
+            .fold(Real::NEG_INFINITY, Real::max)
+    };
+    let raised = repose(
+        &mesh,
+        &[PartName::LeftArm],
+        160.0 * std::f64::consts::PI / 180.0,
+    );
+    let crown = height(&raised, 0.1);
+    let top = height(&raised, Real::INFINITY);
+    assert!(
+        top > crown + 0.05,
+        "the hand is above the head: {top} {crown}"
+    );
+    let seg = segment(BodyGeometry::Mesh(&raised), &SegmentOptions::default()).expect("segments");
+    let found = seg
+        .landmark(trigbody_core::LandmarkKind::HeadTop)
+        .expect("a head top")
+        .position
+        .dot(up);
+    println!("crown {crown:.3}, hand {top:.3}, head top found {found:.3}");
+    assert!((found - crown).abs() < 0.01, "{found} against {crown}");
+    let (body, _) = reconstruct(BodyGeometry::Mesh(&raised), &ReconstructOptions::default())
+        .expect("reconstructs");
+    let surface = body.tessellate(&Default::default()).expect("tessellates");
+    let model_crown = height(&surface, 0.1);
+    println!("model's head top {model_crown:.3}");
+    assert!(
+        (model_crown - crown).abs() < 0.01,
+        "{model_crown} against {crown}"
+    );
+}

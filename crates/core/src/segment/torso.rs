@@ -79,13 +79,28 @@ impl Landmarking<'_> {
             confidence: neck_conf,
             how: "smallest hull girth between the armpits and the head's widest slice",
         });
-        let top_p = lv.at_height(g.nodes[top_node].centroid, extent);
+        // The highest input point over the trunk's top loop (within twice
+        // its radius across `up`), not the body's top: a hand raised above
+        // the head may be that.
+        let top = &g.nodes[top_node];
+        let top_h = self
+            .body
+            .positions()
+            .iter()
+            .filter(|&&p| {
+                let d = p - top.centroid;
+                (d - lv.up * d.dot(lv.up)).norm() <= 2.0 * top.radius
+            })
+            .map(|&p| lv.hfrac(p) * extent)
+            .fold(lv.height_of(top.slice), Real::max)
+            .min(extent);
+        let top_p = lv.at_height(g.nodes[top_node].centroid, top_h);
         out.landmarks.push(Landmark {
             kind: LandmarkKind::HeadTop,
             position: top_p,
             height_fraction: 1.0,
             confidence: 1.0,
-            how: "top end of the trunk's branch",
+            how: "top of the trunk branch's highest slice",
         });
 
         // Torso and head axes.

@@ -43,6 +43,11 @@ pub struct CorpusArgs {
     /// from the data, as a user without it would run it).
     #[arg(long)]
     pub given_up: bool,
+    /// Frames each scan is reconstructed in, the model nearest the scan
+    /// kept (as `reconstruct --scan-frames`).
+    #[arg(long, default_value_t = ReconstructOptions::default().scan_frames,
+          value_parser = crate::bounds::count_in(1usize, trigbody_core::MAX_SCAN_FRAMES))]
+    pub scan_frames: usize,
     /// Samples on each surface for the distances.
     #[arg(long, default_value_t = 100_000)]
     pub samples: usize,
@@ -259,6 +264,7 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), 
     };
     let mut options = ReconstructOptions {
         units: case.units,
+        scan_frames: args.scan_frames,
         ..ReconstructOptions::default()
     };
     let shift = probe_motion(&case.name, args, case.units);

@@ -4,9 +4,10 @@
 //! the triangles that cross another piece or another part of their own
 //! piece; everywhere else a triangle is either kept whole or dropped. So:
 //!
-//! 1. *Touched* triangles: those whose box overlaps a triangle of another
-//!    piece, or that (conservatively) intersect a triangle of their own
-//!    piece sharing no edge with them (a box hierarchy,
+//! 1. *Touched* triangles: those that (conservatively: near misses, and
+//!    nearly parallel faces whose boxes overlap) intersect a triangle of
+//!    another piece, or one of their own piece sharing no edge with them
+//!    (pairs found by a box hierarchy,
 //!    [`crate::spatial::tri_intersect`]). The touched set is grown by
 //!    [`RINGS`] rings of neighbours: the neighbourhood.
 //! 2. Every other triangle lies in a *patch* (edge-connected, untouched),
@@ -116,7 +117,10 @@ fn touched(m: &Mesh, tree: &Tree, piece: &[u32]) -> Vec<bool> {
     let crossing = |&(s, t): &(u32, u32)| {
         let (s, t) = (s as usize, t as usize);
         if piece[s] != piece[t] {
-            return true;
+            // Near misses count (the intersection graph decides them), and
+            // nearly parallel faces on their boxes alone: the edge test
+            // does not see coplanar overlaps.
+            return nearly_parallel(m, s, t) || pair_intersects_within(m, s, t, -1e-6);
         }
         let shared = m.triangles[s]
             .iter()
@@ -140,6 +144,18 @@ fn touched(m: &Mesh, tree: &Tree, piece: &[u32]) -> Vec<bool> {
         out[t as usize] = true;
     }
     out
+}
+
+/// Whether triangles `s` and `t` of `m` lie within about 2.5° of parallel.
+fn nearly_parallel(m: &Mesh, s: usize, t: usize) -> bool {
+    let normal = |i: usize| {
+        let [a, b, c] = m.triangle(i);
+        (b - a).cross(c - a).normalized()
+    };
+    match (normal(s), normal(t)) {
+        (Some(p), Some(q)) => p.dot(q).abs() > 0.999,
+        _ => true,
+    }
 }
 
 /// `set` grown by `rings` rings of triangles sharing a vertex.

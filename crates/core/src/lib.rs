@@ -116,7 +116,7 @@ pub mod internals {
     /// The `surface` layer.
     pub mod surface {
         pub use crate::surface::{
-            cap, closed_skin, part, patch, pieces, skin, tessellate, transition,
+            cap, closed_skin, local_skin, part, patch, pieces, skin, tessellate, transition,
         };
     }
     /// The `segment` layer.

@@ -7,7 +7,10 @@
 //! measurement checked on the input against itself and a shifted copy.
 
 use trigbody_core::internals::measure::regions::{region_fit, Region, Regions};
-use trigbody_core::internals::surface::closed_skin::{check_closed, closed_skin, union_volume};
+use trigbody_core::internals::surface::closed_skin::{
+    check_closed, closed_skin, closed_soup, union_volume, whole_soup_skin,
+};
+use trigbody_core::internals::surface::local_skin::local_closed_skin;
 use trigbody_core::TessellationOptions;
 use trigbody_core::{reconstruct, ReconstructOptions};
 use trigbody_core::{segment, BodyGeometry, LandmarkKind};
@@ -52,6 +55,33 @@ fn closed_skin_of_the_built_in_body_is_one_closed_manifold() {
     let filled_check = check_closed(&filled);
     assert_eq!(filled_check.components, 1, "{filled_check:?}");
     assert!(filled_check.volume > check.volume);
+}
+
+#[test]
+fn local_and_whole_soup_paths_agree_on_the_built_in_body() {
+    let input = built_in();
+    let (model, _) =
+        reconstruct(BodyGeometry::Mesh(&input), &ReconstructOptions::default()).expect("model");
+    let tess = TessellationOptions {
+        target_edge: Some(0.004 * model.height),
+        ..TessellationOptions::default()
+    };
+    let pieces = model.tessellate_pieces(&tess).unwrap();
+    let (solids, cavities) = pieces.split_at(pieces.len() - model.cavities.len());
+    let (soup, piece) = closed_soup(solids, cavities).expect("soup");
+    // The local path must succeed here (no fallback hidden by closed_skin).
+    let local = local_closed_skin(&soup, &piece).expect("the local rebuild");
+    let whole = whole_soup_skin(&soup).expect("the whole-soup rebuild");
+    let (lc, wc) = (check_closed(&local), check_closed(&whole));
+    println!("local {lc:?}\nwhole {wc:?}");
+    for c in [&lc, &wc] {
+        assert_eq!(c.bad_edges, 0, "{c:?}");
+        assert_eq!(c.misoriented_edges, 0, "{c:?}");
+        assert_eq!(c.intersecting_pairs, 0, "{c:?}");
+        assert_eq!(c.components, 2, "{c:?}");
+    }
+    // The same solid: the crossings are exact in both.
+    assert!((lc.volume / wc.volume - 1.0).abs() < 1e-9, "{lc:?} {wc:?}");
 }
 
 #[test]

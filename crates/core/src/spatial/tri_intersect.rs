@@ -10,14 +10,14 @@
 //! triangles sharing one vertex intersect only where they meet away from
 //! it.
 
-use crate::geom::math::{Point3, Real};
+use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Aabb, Mesh};
 
 const EPS: Real = 1e-9;
 
-/// The number of intersecting pairs of `m`'s triangles (see the module doc).
-pub fn intersecting_pairs(m: &Mesh) -> usize {
-    let boxes: Vec<Aabb> = (0..m.triangles.len())
+/// The boxes of `m`'s triangles.
+pub(crate) fn triangle_boxes(m: &Mesh) -> Vec<Aabb> {
+    (0..m.triangles.len())
         .map(|t| {
             let [a, b, c] = m.triangle(t);
             Aabb {
@@ -25,8 +25,12 @@ pub fn intersecting_pairs(m: &Mesh) -> usize {
                 max: a.max(b).max(c),
             }
         })
-        .collect();
-    let tree = Tree::new(&boxes);
+        .collect()
+}
+
+/// The number of intersecting pairs of `m`'s triangles (see the module doc).
+pub fn intersecting_pairs(m: &Mesh) -> usize {
+    let tree = Tree::new(&triangle_boxes(m));
     let mut pairs = Vec::new();
     tree.overlapping_pairs(&mut pairs);
     let count = |chunk: &[(u32, u32)]| {
@@ -43,6 +47,13 @@ pub fn intersecting_pairs(m: &Mesh) -> usize {
 
 /// Whether triangles `s` and `t` of `m` intersect (module doc).
 fn pair_intersects(m: &Mesh, s: usize, t: usize) -> bool {
+    pair_intersects_within(m, s, t, EPS)
+}
+
+/// Whether triangles `s` and `t` of `m` intersect, crossings within a
+/// relative `eps` of a boundary counting as touching (a negative `eps`
+/// counts near misses as crossings: a conservative test).
+pub(crate) fn pair_intersects_within(m: &Mesh, s: usize, t: usize, eps: Real) -> bool {
     let (ts, tt) = (m.triangles[s], m.triangles[t]);
     let shared: Vec<u32> = ts.iter().copied().filter(|v| tt.contains(v)).collect();
     if shared.len() >= 2 {
@@ -59,7 +70,7 @@ fn pair_intersects(m: &Mesh, s: usize, t: usize) -> bool {
             } else {
                 (pa[i], pa[j])
             };
-            segment_crosses(from, to, pb)
+            segment_crosses(from, to, pb, eps)
         })
     };
     crosses(ts, ps, pt) || crosses(tt, pt, ps)
@@ -67,7 +78,7 @@ fn pair_intersects(m: &Mesh, s: usize, t: usize) -> bool {
 
 /// Whether the segment `p → q` crosses triangle `tri` strictly inside
 /// both (module doc's tolerance).
-fn segment_crosses(p: Point3, q: Point3, [a, b, c]: [Point3; 3]) -> bool {
+fn segment_crosses(p: Point3, q: Point3, [a, b, c]: [Point3; 3], eps: Real) -> bool {
     let d = q - p;
     let (e1, e2) = (b - a, c - a);
     let h = d.cross(e2);
@@ -81,12 +92,45 @@ fn segment_crosses(p: Point3, q: Point3, [a, b, c]: [Point3; 3]) -> bool {
     let qv = s.cross(e1);
     let v = d.dot(qv) / det;
     let t = e2.dot(qv) / det;
-    u > EPS && v > EPS && u + v < 1.0 - EPS && t > EPS && t < 1.0 - EPS
+    u > eps && v > eps && u + v < 1.0 - eps && t > eps && t < 1.0 - eps
+}
+
+/// Where the ray `o + s d`, `s > 0`, crosses triangle `[a, b, c]`: `Some(s)`,
+/// or `None` when it misses; `Err(())` when it passes within a relative
+/// `1e-9` of the triangle's boundary or its plane contains the ray, where
+/// the crossing is undecided.
+pub(crate) fn ray_crosses(o: Point3, d: Vec3, [a, b, c]: [Point3; 3]) -> Result<Option<Real>, ()> {
+    let (e1, e2) = (b - a, c - a);
+    let h = d.cross(e2);
+    let det = e1.dot(h);
+    if !(det.abs() > EPS * e1.norm() * e2.norm() * d.norm()) {
+        // Parallel: a miss unless the ray lies in the plane.
+        let n = e1.cross(e2);
+        return if (o - a).dot(n).abs() > EPS * n.norm() * (o - a).norm().max(e1.norm()) {
+            Ok(None)
+        } else {
+            Err(())
+        };
+    }
+    let s = o - a;
+    let u = s.dot(h) / det;
+    let qv = s.cross(e1);
+    let v = d.dot(qv) / det;
+    let t = e2.dot(qv) / det;
+    let inside = u > EPS && v > EPS && u + v < 1.0 - EPS;
+    let outside = u < -EPS || v < -EPS || u + v > 1.0 + EPS;
+    if outside || t < -EPS {
+        Ok(None)
+    } else if inside && t > EPS {
+        Ok(Some(t))
+    } else {
+        Err(())
+    }
 }
 
 /// A box hierarchy over boxes: nodes with two children or a run of
 /// leaves' indices.
-struct Tree {
+pub(crate) struct Tree {
     nodes: Vec<Node>,
     order: Vec<u32>,
     boxes: Vec<Aabb>,
@@ -104,7 +148,7 @@ enum Kind {
 }
 
 impl Tree {
-    fn new(boxes: &[Aabb]) -> Tree {
+    pub(crate) fn new(boxes: &[Aabb]) -> Tree {
         let mut tree = Tree {
             nodes: Vec::new(),
             order: (0..boxes.len() as u32).collect(),
@@ -161,7 +205,7 @@ impl Tree {
     }
 
     /// Every pair `(i, j)`, `i < j`, of boxes that overlap.
-    fn overlapping_pairs(&self, out: &mut Vec<(u32, u32)>) {
+    pub(crate) fn overlapping_pairs(&self, out: &mut Vec<(u32, u32)>) {
         if self.nodes.is_empty() {
             return;
         }
@@ -190,6 +234,54 @@ impl Tree {
                 (Kind::Leaf(..), Kind::Inner(l, r)) => stack.extend([(a, *l), (a, *r)]),
                 (Kind::Inner(l0, r0), Kind::Inner(l1, r1)) => {
                     stack.extend([(*l0, *l1), (*l0, *r1), (*r0, *l1), (*r0, *r1)]);
+                }
+            }
+        }
+    }
+}
+
+impl Tree {
+    /// Calls `f` with every box the ray `o + s d`, `s >= 0`, may pass
+    /// through (a slab test per node, slightly widened).
+    pub(crate) fn along_ray(&self, o: Point3, d: Vec3, mut f: impl FnMut(usize)) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        let hits = |b: &Aabb| {
+            let (mut lo, mut hi) = (0.0 as Real, Real::INFINITY);
+            for (o, d, min, max) in [
+                (o.x, d.x, b.min.x, b.max.x),
+                (o.y, d.y, b.min.y, b.max.y),
+                (o.z, d.z, b.min.z, b.max.z),
+            ] {
+                let pad = 1e-9 * (max - min).abs().max(1e-12);
+                let (min, max) = (min - pad, max + pad);
+                if d == 0.0 {
+                    if o < min || o > max {
+                        return false;
+                    }
+                    continue;
+                }
+                let (a, b) = ((min - o) / d, (max - o) / d);
+                lo = lo.max(a.min(b));
+                hi = hi.min(a.max(b));
+            }
+            lo <= hi
+        };
+        let mut stack = vec![0usize];
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n];
+            if !hits(&node.bounds) {
+                continue;
+            }
+            match node.kind {
+                Kind::Inner(l, r) => stack.extend([l, r]),
+                Kind::Leaf(s, e) => {
+                    for &i in &self.order[s..e] {
+                        if hits(&self.boxes[i as usize]) {
+                            f(i as usize);
+                        }
+                    }
                 }
             }
         }

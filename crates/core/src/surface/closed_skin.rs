@@ -19,6 +19,12 @@
 //! triangles face outwards and share their vertices, so every edge is in
 //! exactly two triangles.
 //!
+//! Only the triangles near the crossings change, so the soup is first
+//! rebuilt locally ([`crate::surface::local_skin`]: the engine's exact
+//! intersection graph of that neighbourhood alone, everything else kept or
+//! dropped by patches, decided by ray winding numbers); the whole-soup
+//! rebuild ([`whole_soup_skin`]) runs when that fails its own check.
+//!
 //! [`check_closed`] is an independent check of such a mesh (edges,
 //! components, orientation, triangle–triangle intersections over a box
 //! hierarchy), used by the tests and the diagnostics.
@@ -48,8 +54,22 @@ pub enum ClosedSkinError {
 /// doc): `solids` are the pieces facing outwards, `cavities` the pockets
 /// facing into themselves (as a body's `tessellate_pieces`
 /// gives them). Shells enclosing less than [`SPECK`] of the largest one's
-/// volume are left out.
+/// volume are left out. Rebuilt locally where that passes its own check,
+/// else from the whole soup (module doc).
 pub fn closed_skin(solids: &[Mesh], cavities: &[Mesh]) -> Result<Mesh, ClosedSkinError> {
+    let (soup, piece) = closed_soup(solids, cavities)?;
+    match crate::surface::local_skin::local_closed_skin(&soup, &piece) {
+        Some(skin) => Ok(without_specks(skin)),
+        None => whole_soup_skin(&soup),
+    }
+}
+
+/// The closed pieces (solids closed with [`BULGE`], cavities flat) as one
+/// soup, and each triangle's piece.
+pub fn closed_soup(
+    solids: &[Mesh],
+    cavities: &[Mesh],
+) -> Result<(Mesh, Vec<u32>), ClosedSkinError> {
     let closed: Vec<Result<Mesh, ClosedSkinError>> = crate::geom::parallel::each_on_cores(
         &solids
             .iter()
@@ -62,15 +82,26 @@ pub fn closed_skin(solids: &[Mesh], cavities: &[Mesh]) -> Result<Mesh, ClosedSki
         },
     );
     let closed = closed.into_iter().collect::<Result<Vec<Mesh>, _>>()?;
-    let soup = crate::geom::mesh::concatenate(&closed).0;
+    let (soup, ranges) = crate::geom::mesh::concatenate(&closed);
     if soup.triangles.is_empty() {
         return Err(ClosedSkinError::Empty);
     }
+    let mut piece = vec![0u32; soup.triangles.len()];
+    for (k, r) in ranges.into_iter().enumerate() {
+        piece[r].fill(k as u32);
+    }
+    Ok((soup, piece))
+}
+
+/// The closed skin of a soup of closed pieces by one rebuild of the whole
+/// soup: the fallback of the local rebuild
+/// ([`crate::surface::local_skin`]), and its reference.
+pub fn whole_soup_skin(soup: &Mesh) -> Result<Mesh, ClosedSkinError> {
     // The robust engine: the pieces intersect themselves where a part's
     // sections of different directions meet (a leg's and its foot's), which
     // the exact engine does not accept. Winding number >= 1 is solid: a
     // cavity, facing into itself, takes its pocket out.
-    let imported = Manifold::from_mesh_gl64_robust(&mesh_gl(&soup));
+    let imported = Manifold::from_mesh_gl64_robust(&mesh_gl(soup));
     let skin = imported.rebuild_solid(WindingRule::Positive);
     match skin.status() {
         ManifoldError::NoError => Ok(without_specks(from_mesh_gl(&skin.get_mesh_gl64(-1)))),
@@ -390,4 +421,58 @@ pub fn union_volume(solids: &[Mesh], cavities: &[Mesh], up: Vec3, spacing: Real)
             .into_iter()
             .sum();
     total * spacing * spacing
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::shapes::cylinder;
+
+    /// Two upright cylinders crossing side by side (no faces in one
+    /// plane), and a third lying across both.
+    fn crossing() -> Vec<Mesh> {
+        let mut lying = cylinder(Vec3::new(0.0, 0.0, -1.5), 0.4, 3.0, 24, 40);
+        for p in &mut lying.positions {
+            // A quarter turn about y (orientation kept).
+            *p = Vec3::new(p.z, p.y, 1.0 - p.x);
+        }
+        vec![
+            cylinder(Vec3::new(-0.5, 0.0, 0.0), 0.6, 2.0, 20, 48),
+            cylinder(Vec3::new(0.5, 0.1, 0.13), 0.6, 2.1, 20, 48),
+            lying,
+        ]
+    }
+
+    #[test]
+    fn local_path_matches_the_whole_soup() {
+        let pieces = crossing();
+        let (soup, piece) = closed_soup(&pieces, &[]).unwrap();
+        let local =
+            crate::surface::local_skin::local_closed_skin(&soup, &piece).expect("local path");
+        let whole = whole_soup_skin(&soup).unwrap();
+        let (lc, wc) = (check_closed(&local), check_closed(&whole));
+        assert!(lc.is_closed_manifold(), "{lc:?}");
+        assert!(wc.is_closed_manifold(), "{wc:?}");
+        assert!((lc.volume / wc.volume - 1.0).abs() < 1e-9, "{lc:?} {wc:?}");
+        // Less than the pieces' total: they overlap.
+        let total: Real = pieces.iter().map(|m| m.signed_volume()).sum();
+        assert!(lc.volume < total - 0.1, "{} {total}", lc.volume);
+    }
+
+    #[test]
+    fn coincident_pieces_fall_back_to_the_whole_soup() {
+        // Two copies of one cylinder: every ray from one grazes the other,
+        // so the local path gives up and the whole-soup rebuild decides.
+        let c = cylinder(Vec3::new(0.0, 0.0, 0.0), 0.5, 1.0, 8, 24);
+        let pieces = [c.clone(), c.clone()];
+        let (soup, piece) = closed_soup(&pieces, &[]).unwrap();
+        assert!(crate::surface::local_skin::local_closed_skin(&soup, &piece).is_none());
+        let skin = closed_skin(&pieces, &[]).unwrap();
+        let check = check_closed(&skin);
+        assert!(check.is_closed_manifold(), "{check:?}");
+        assert!(
+            (check.volume / c.signed_volume() - 1.0).abs() < 1e-9,
+            "{check:?}"
+        );
+    }
 }

@@ -122,6 +122,7 @@ struct Options {
     spacing: Option<Real>,
     ea: Option<Real>,
     em: Option<Real>,
+    scan_frames: Option<usize>,
 }
 
 fn direction(name: &str, v: Option<[Real; 3]>) -> PyResult<Option<Vec3>> {
@@ -145,6 +146,7 @@ impl Options {
         o.spacing = self.spacing.unwrap_or(o.spacing);
         o.fit.ea = self.ea.unwrap_or(o.fit.ea);
         o.fit.em = self.em.unwrap_or(o.fit.em);
+        o.scan_frames = self.scan_frames.unwrap_or(o.scan_frames);
         o.segment.up = direction("up", self.up)?;
         o.segment.front = direction("front", self.front)?;
         Ok(o)

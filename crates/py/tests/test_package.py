@@ -152,6 +152,8 @@ def test_reconstruct_bad_options():
         trigbody.reconstruct(v, f, up="w")
     with pytest.raises(ValueError, match="not a direction"):
         trigbody.reconstruct(v, f, up=(0, 0, 0))
+    with pytest.raises(ValueError, match="scan_frames"):
+        trigbody.reconstruct(v, f, scan_frames=0)
 
 
 def test_no_body_is_the_cli_message(tmp_path):

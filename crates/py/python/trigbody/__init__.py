@@ -161,6 +161,7 @@ def reconstruct(
     spacing: Optional[float] = None,
     ea: Optional[float] = None,
     em: Optional[float] = None,
+    scan_frames: Optional[int] = None,
 ) -> Tuple[Model, Report]:
     """Reconstructs a body model from a mesh (``faces`` given) or a scan.
 
@@ -168,7 +169,9 @@ def reconstruct(
     vertex indices, or None for a point cloud; ``normals`` (N, 3) or None;
     ``up`` and ``front`` an axis name ("y", "-z", ...) or three numbers
     (default: found from the data); ``spacing`` (fraction of the height),
-    ``ea`` and ``em`` as ``trigbody reconstruct`` (None: its defaults).
+    ``ea``, ``em`` and ``scan_frames`` (a scan is reconstructed in that
+    many frames turned about its up axis, 1-6, and the model nearest it
+    kept) as ``trigbody reconstruct`` (None: its defaults).
     Returns the model and its report, the same as ``trigbody reconstruct
     -o MODEL --report REPORT`` on a file holding the same geometry."""
     v = _float_array("vertices", vertices, (3,))
@@ -181,6 +184,7 @@ def reconstruct(
         "spacing": spacing,
         "ea": ea,
         "em": em,
+        "scan_frames": scan_frames,
     }
     model, report, seconds = _trigbody.reconstruct(v, f, n, options)
     return model, Report(report, seconds)

@@ -12,26 +12,31 @@ use trigbody_core::internals::surface::closed_skin::{
 };
 use trigbody_core::internals::surface::local_skin::local_closed_skin;
 use trigbody_core::TessellationOptions;
-use trigbody_core::{reconstruct, ReconstructOptions};
+use trigbody_core::{reconstruct, Body, Mesh, ReconstructOptions};
 use trigbody_core::{segment, BodyGeometry, LandmarkKind};
 use trigbody_io::{read_mesh, ReadOptions};
 
-fn built_in() -> trigbody_core::Mesh {
+fn built_in() -> Mesh {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/bodies/mh_male.obj");
     read_mesh(path, &ReadOptions::default()).expect("the built-in body data/bodies/mh_male.obj")
 }
 
-#[test]
-fn closed_skin_of_the_built_in_body_is_one_closed_manifold() {
+/// The built-in body's model and its pieces at `--mesh`'s tessellation.
+fn built_in_pieces() -> (Body, Vec<Mesh>) {
     let input = built_in();
     let (model, _) =
         reconstruct(BodyGeometry::Mesh(&input), &ReconstructOptions::default()).expect("model");
-    // `--mesh`'s tessellation.
     let tess = TessellationOptions {
         target_edge: Some(0.004 * model.height),
         ..TessellationOptions::default()
     };
     let pieces = model.tessellate_pieces(&tess).unwrap();
+    (model, pieces)
+}
+
+#[test]
+fn closed_skin_of_the_built_in_body_is_one_closed_manifold() {
+    let (model, pieces) = built_in_pieces();
     let (solids, cavities) = pieces.split_at(pieces.len() - model.cavities.len());
     assert_eq!(cavities.len(), 1, "the built-in mesh models its mouth");
     let skin = closed_skin(solids, cavities).expect("closed skin");
@@ -59,14 +64,7 @@ fn closed_skin_of_the_built_in_body_is_one_closed_manifold() {
 
 #[test]
 fn local_and_whole_soup_paths_agree_on_the_built_in_body() {
-    let input = built_in();
-    let (model, _) =
-        reconstruct(BodyGeometry::Mesh(&input), &ReconstructOptions::default()).expect("model");
-    let tess = TessellationOptions {
-        target_edge: Some(0.004 * model.height),
-        ..TessellationOptions::default()
-    };
-    let pieces = model.tessellate_pieces(&tess).unwrap();
+    let (model, pieces) = built_in_pieces();
     let (solids, cavities) = pieces.split_at(pieces.len() - model.cavities.len());
     let (soup, piece) = closed_soup(solids, cavities).expect("soup");
     // The local path must succeed here (no fallback hidden by closed_skin).

@@ -931,26 +931,30 @@ mod tests {
         );
     }
 
+    /// A cut fitted to the ellipse of semi-axes 0.05 (x) and 0.1 (y)
+    /// centred at `(x, 0, 0.02)` in the plane `z = 0.02`.
+    fn elliptic_cut(x: Real, at: Real) -> Cut {
+        let points: Vec<Point3> = (0..64)
+            .map(|i| {
+                let t = std::f64::consts::TAU * i as Real / 64.0;
+                Point3::new(x + 0.05 * t.cos(), 0.1 * t.sin(), 0.02)
+            })
+            .collect();
+        let fit = fit_loop(&points, &FitOptions::default()).unwrap();
+        let area = fit.curve.area().abs();
+        Cut {
+            at,
+            fit,
+            area,
+            clips: Vec::new(),
+        }
+    }
+
     /// A foot outline's successor lies within two mean radii of it; the
     /// other foot, 0.25 away, does not continue it.
     #[test]
     fn the_other_foot_does_not_continue_a_foot() {
-        let cut = |x: Real| {
-            let points: Vec<Point3> = (0..64)
-                .map(|i| {
-                    let t = std::f64::consts::TAU * i as Real / 64.0;
-                    Point3::new(x + 0.05 * t.cos(), 0.1 * t.sin(), 0.02)
-                })
-                .collect();
-            let fit = fit_loop(&points, &FitOptions::default()).unwrap();
-            let area = fit.curve.area().abs();
-            Cut {
-                at: 0.9,
-                fit,
-                area,
-                clips: Vec::new(),
-            }
-        };
+        let cut = |x: Real| elliptic_cut(x, 0.9);
         // Mean radius √(0.05 · 0.1) ≈ 0.0707.
         let foot = cut(0.0);
         assert!(follows(&foot, &cut(0.03)));
@@ -963,22 +967,7 @@ mod tests {
     /// below the plane.
     #[test]
     fn a_loop_round_the_torso_s_axis_holds_it() {
-        let cut = |x: Real| {
-            let points: Vec<Point3> = (0..64)
-                .map(|i| {
-                    let t = std::f64::consts::TAU * i as Real / 64.0;
-                    Point3::new(x + 0.05 * t.cos(), 0.1 * t.sin(), 0.02)
-                })
-                .collect();
-            let fit = fit_loop(&points, &FitOptions::default()).unwrap();
-            let area = fit.curve.area().abs();
-            Cut {
-                at: 0.0,
-                fit,
-                area,
-                clips: Vec::new(),
-            }
-        };
+        let cut = |x: Real| elliptic_cut(x, 0.0);
         let torso = |top: Real| PartAxis {
             name: PartName::Torso,
             points: (0..=10)

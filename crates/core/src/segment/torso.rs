@@ -100,7 +100,7 @@ impl Landmarking<'_> {
             position: top_p,
             height_fraction: 1.0,
             confidence: 1.0,
-            how: "top of the trunk branch's highest slice",
+            how: "highest input point over the trunk branch's top loop",
         });
 
         // Torso and head axes.

@@ -110,8 +110,9 @@ impl LimbPlans<'_> {
             Shoulders::default(),
             warnings,
         );
-        cuts.pop(); // the wrist itself starts the hand's run
-                    // The arm starts where its loops leave the trunk.
+        // The wrist itself starts the hand's run.
+        cuts.pop();
+        // The arm starts where its loops leave the trunk.
         if let Some(torso) = self.seg.part(PartName::Torso) {
             let k = cuts.iter().take_while(|c| holds_axis(c, torso)).count();
             if k > 0 && k < cuts.len() / 2 {
@@ -121,16 +122,6 @@ impl LimbPlans<'_> {
                 cuts.drain(..k);
             }
         }
-        if std::env::var("TB_AX").is_ok() {
-            if let Some(torso) = self.seg.part(PartName::Torso) {
-                let k = cuts.iter().take_while(|c| holds_axis(c, torso)).count();
-                if k > 0 && k < cuts.len() / 2 {
-                    warnings.push(format!("{name}: first {k} section(s) dropped (AXIS)"));
-                    cuts.drain(..k);
-                }
-            }
-        }
-
         // A scan's slab past the palm merges the fingers, the thumb and the
         // scanner's gaps into blobs whose sections fold: its hand ends
         // where the loop falls under the palm with its thumb.

@@ -234,6 +234,35 @@ impl Mesh {
         }
     }
 
+    /// The edges that keep the mesh from being a closed, consistently
+    /// oriented surface: `(bad, misoriented)`, the undirected edges not in
+    /// exactly two triangles, and those in two triangles that run it the
+    /// same way.
+    pub fn edge_faults(&self) -> (usize, usize) {
+        // Each triangle edge as its undirected key and whether it runs up.
+        let mut edges: Vec<(u64, bool)> = self
+            .triangles
+            .iter()
+            .flat_map(|t| {
+                (0..3).map(move |k| {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    (((a.min(b) as u64) << 32) | a.max(b) as u64, a < b)
+                })
+            })
+            .collect();
+        edges.sort_unstable();
+        let (mut bad, mut misoriented) = (0, 0);
+        for run in edges.chunk_by(|x, y| x.0 == y.0) {
+            let up = run.iter().filter(|e| e.1).count();
+            if run.len() != 2 {
+                bad += 1;
+            } else if up != 1 {
+                misoriented += 1;
+            }
+        }
+        (bad, misoriented)
+    }
+
     /// Signed enclosed volume by the divergence theorem,
     /// V = Σ a·(b×c)/6 over the triangles (positive for a closed,
     /// outward-oriented surface; exact for any origin when closed).
@@ -396,6 +425,28 @@ pub fn concatenate<M: std::borrow::Borrow<Mesh> + Sync>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A closed tetrahedron has no faulty edge; one face turned over
+    /// misorients its three edges; one face taken away opens them.
+    #[test]
+    fn edge_faults_of_a_tetrahedron() {
+        let positions = vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(0.0, 0.0, 1.0),
+        ];
+        let faces = vec![[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        let tet = Mesh::new(positions, faces).unwrap();
+        assert!(tet.signed_volume() > 0.0);
+        assert_eq!(tet.edge_faults(), (0, 0));
+        let mut flipped = tet.clone();
+        flipped.triangles[0] = [0, 1, 2];
+        assert_eq!(flipped.edge_faults(), (0, 3));
+        let mut open = tet.clone();
+        open.triangles.pop();
+        assert_eq!(open.edge_faults(), (3, 0));
+    }
 
     /// A cell index by a plain cast is the floor clamped at 0, for every
     /// value (negatives, NaN, infinities, huge values).

@@ -176,25 +176,8 @@ impl ClosedCheck {
 /// not intersecting, and those sharing one vertex only must meet nowhere
 /// else).
 pub fn check_closed(m: &Mesh) -> ClosedCheck {
-    use std::collections::HashMap;
-    let mut edges: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
-    for tri in &m.triangles {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            let e = edges.entry((a.min(b), a.max(b))).or_insert((0, 0));
-            if a < b {
-                e.0 += 1;
-            } else {
-                e.1 += 1;
-            }
-        }
-    }
-    let bad_edges = edges.values().filter(|(f, b)| f + b != 2).count();
+    let (bad_edges, misoriented_edges) = m.edge_faults();
     let shells = shells(m);
-    let misoriented_edges = edges
-        .values()
-        .filter(|(f, b)| f + b == 2 && *f != 1)
-        .count();
     ClosedCheck {
         bad_edges,
         misoriented_edges,

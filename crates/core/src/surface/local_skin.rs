@@ -53,7 +53,8 @@ pub fn local_closed_skin(soup: &Mesh, piece: &[u32]) -> Option<Mesh> {
     let keep_far = far_patches_kept(soup, &topo, &tree, &near)?;
     let (graph, keep) = arranged_neighbourhood(soup, &topo, &tree, &near, &keep_far)?;
     let skin = stitched(soup, &keep_far, &graph, &keep);
-    closed_and_oriented(&skin).then_some(skin)
+    let closed = !skin.triangles.is_empty() && skin.edge_faults() == (0, 0);
+    closed.then_some(skin)
 }
 
 /// Each vertex's triangles and each directed edge's triangle.
@@ -428,19 +429,4 @@ fn stitched(m: &Mesh, keep_far: &[bool], g: &Graph, keep: &[bool]) -> Mesh {
         }
     }
     out
-}
-
-/// Every edge of `m` in exactly two triangles, run once each way.
-fn closed_and_oriented(m: &Mesh) -> bool {
-    let mut edges: Vec<u64> = m
-        .triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |k| edge_code(t[k], t[(k + 1) % 3])))
-        .collect();
-    edges.sort_unstable();
-    !edges.is_empty()
-        && edges.windows(2).all(|w| w[0] != w[1])
-        && edges
-            .iter()
-            .all(|&e| edges.binary_search(&e.rotate_right(32)).is_ok())
 }

@@ -2,16 +2,53 @@
 //! and the [`Cutter`] that shares what many cuts of one body need.
 
 use crate::anatomy::{BodyGeometry, PartName};
-use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::math::{Point2, Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
 use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::section::cloud::{
     height_key, keyed_heights, section_of_slab, sort_keyed, sorted_heights, CloudSlicer,
     ScanSectionOptions, Slab,
 };
+use crate::section::girth::convex_hull;
 use crate::section::mesh::{section_mesh, MeshSlicer, Plane, SectionLoop};
 use crate::segment::{HeightSort, PartAxis, PartCut, SegmentError, SegmentOptions, Segmentation};
 use std::sync::OnceLock;
+
+/// One loop round several of a plane's loops (toes apart): their convex
+/// hull, its edges split no longer than the loops' median edge, with the
+/// loops' cloud indices together.
+fn hull_of_loops(
+    loops: Vec<(SectionLoop, Option<Vec<usize>>)>,
+) -> Option<(SectionLoop, Option<Vec<usize>>)> {
+    let frame = loops.first()?.0.frame;
+    let (o, e1, e2) = (frame.origin, frame.e1, frame.e2);
+    let mut edges: Vec<Real> = Vec::new();
+    let mut flat = Vec::new();
+    for (l, _) in &loops {
+        let n = l.points.len();
+        for (k, &p) in l.points.iter().enumerate() {
+            edges.push(p.distance(l.points[(k + 1) % n]));
+            flat.push(Point2::new((p - o).dot(e1), (p - o).dot(e2)));
+        }
+    }
+    let step = crate::geom::stats::median(&mut edges)?.max(Real::EPSILON);
+    let hull = convex_hull(&flat);
+    let mut points = Vec::new();
+    for (k, &a) in hull.iter().enumerate() {
+        let b = hull[(k + 1) % hull.len()];
+        let pieces = ((b - a).norm() / step).ceil().max(1.0) as usize;
+        for j in 0..pieces {
+            let q = a + (b - a) * (j as Real / pieces as Real);
+            points.push(o + e1 * q.x + e2 * q.y);
+        }
+    }
+    let indices = loops
+        .iter()
+        .map(|(_, i)| i.clone())
+        .collect::<Option<Vec<Vec<usize>>>>()
+        .map(|v| v.concat());
+    Some((SectionLoop::from_points(points, e1, e2)?, indices))
+}
 
 /// Cuts `part` with the plane perpendicular to its axis at arc-length
 /// fraction `at ∈ [0, 1]` (0 the proximal end) and returns the part's loop:
@@ -140,6 +177,43 @@ impl<'a> Cutter<'a> {
             .into_iter()
             .nth(k)
             .ok_or(SegmentError::EmptyCut { part, at })?;
+        Ok(PartCut {
+            plane,
+            outline,
+            scan_indices,
+        })
+    }
+
+    /// [`Cutter::cut`], but the part's loop is made of the loops whose
+    /// centroids `within` accepts, not the one around the axis point: the
+    /// largest when it holds half their area or more, else their hull
+    /// ([`hull_of_loops`]: toes apart). A run of a part's end follows its
+    /// previous outline this way where the outlines leave the axis (a
+    /// tilted foot's toes ahead of the line down from the ankle, where the
+    /// loop nearest that line can be a stray fragment).
+    pub fn cut_within(
+        &self,
+        part: PartName,
+        at: Real,
+        normal: Option<Vec3>,
+        within: &dyn Fn(Point3) -> bool,
+        opts: &SegmentOptions,
+    ) -> Result<PartCut, SegmentError> {
+        let (plane, loops, _) = self.cut_loops(part, at, normal, true, opts)?;
+        let mut kept: Vec<_> = loops
+            .into_iter()
+            .filter(|(l, _)| within(l.centroid))
+            .collect();
+        kept.sort_by(|a, b| b.0.area.total_cmp(&a.0.area));
+        let total: Real = kept.iter().map(|(l, _)| l.area).sum();
+        let (outline, scan_indices) = match kept.first() {
+            None => return Err(SegmentError::EmptyCut { part, at }),
+            // A loop holding half the area or more is the part's (a sole's
+            // outline with a toe or two beside it: a hull would fill the
+            // arch).
+            Some((l, _)) if l.area >= 0.5 * total => kept.swap_remove(0),
+            _ => hull_of_loops(kept).ok_or(SegmentError::EmptyCut { part, at })?,
+        };
         Ok(PartCut {
             plane,
             outline,
@@ -765,6 +839,83 @@ mod tests {
                 assert_eq!(in_arm(&near, p), in_arm(&all, p), "{p:?}");
             }
         }
+    }
+
+    fn square(x0: Real, side: Real, n: usize) -> SectionLoop {
+        let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        let mut points = Vec::new();
+        for k in 0..4 {
+            let (a, b) = (corners[k], corners[(k + 1) % 4]);
+            for j in 0..n {
+                let f = j as Real / n as Real;
+                let (x, y) = (a.0 + (b.0 - a.0) * f, a.1 + (b.1 - a.1) * f);
+                points.push(Vec3::new(x0 + side * x, side * y, 0.0));
+            }
+        }
+        SectionLoop::from_points(points, Vec3::X, Vec3::Y).unwrap()
+    }
+
+    /// Two toes apart give one loop round both: their convex hull, its
+    /// long edges split no longer than the loops' own edges, with both
+    /// loops' cloud indices (none when one has none).
+    #[test]
+    fn loops_apart_give_their_hull() {
+        let (a, b) = (square(0.0, 1.0, 4), square(2.0, 1.0, 4));
+        let (hull, ids) = hull_of_loops(vec![
+            (a.clone(), Some(vec![0, 1])),
+            (b.clone(), Some(vec![2])),
+        ])
+        .unwrap();
+        assert!((hull.area - 3.0).abs() < 1e-12, "{}", hull.area);
+        assert!((hull.centroid - Vec3::new(1.5, 0.5, 0.0)).norm() < 1e-12);
+        assert!((hull.perimeter - 8.0).abs() < 1e-12);
+        let n = hull.points.len();
+        for k in 0..n {
+            let edge = hull.points[k].distance(hull.points[(k + 1) % n]);
+            assert!(edge <= 0.25 + 1e-12, "edge {edge}");
+        }
+        assert_eq!(ids, Some(vec![0, 1, 2]));
+        let (_, ids) = hull_of_loops(vec![(a, Some(vec![0])), (b, None)]).unwrap();
+        assert_eq!(ids, None);
+    }
+
+    /// A run's next loop is the one inside the last outline, not the one
+    /// nearest the axis: with the predicate taking one leg's loop, that
+    /// loop; taking both legs' (equal), the larger alone, as it holds half
+    /// the area; taking none, an empty cut. [`hull_of_loops`] is tested
+    /// above.
+    #[test]
+    fn a_cut_within_takes_the_loops_the_predicate_accepts() {
+        let mesh = shapes::stick_body(2);
+        let body = BodyGeometry::Mesh(&mesh);
+        let seg = segment(body, &Default::default()).unwrap();
+        let cutter = Cutter::new(body, &seg);
+        let opts = SegmentOptions::default();
+        let up = Some(seg.frame.up);
+        let left = cutter.cut(PartName::LeftLeg, 0.5, up, true, &opts).unwrap();
+        let (_, loops, _) = cutter
+            .cut_loops(PartName::LeftLeg, 0.5, up, true, &opts)
+            .unwrap();
+        let right = loops
+            .iter()
+            .map(|(l, _)| l)
+            .find(|l| l.centroid.distance(left.outline.centroid) > 0.05)
+            .expect("the other leg's loop in the plane");
+        let near = |c: Point3| move |p: Point3| p.distance(c) < 1e-3;
+        let own = near(left.outline.centroid);
+        let one = cutter
+            .cut_within(PartName::LeftLeg, 0.5, up, &own, &opts)
+            .unwrap();
+        assert!((one.outline.area - left.outline.area).abs() < 1e-12);
+        let both = |p: Point3| near(left.outline.centroid)(p) || near(right.centroid)(p);
+        let pair = cutter
+            .cut_within(PartName::LeftLeg, 0.5, up, &both, &opts)
+            .unwrap();
+        let larger = left.outline.area.max(right.area);
+        assert!((pair.outline.area - larger).abs() < 1e-12);
+        assert!(cutter
+            .cut_within(PartName::LeftLeg, 0.5, up, &|_| false, &opts)
+            .is_err());
     }
 
     /// The cut the way it was made before the [`Cutter`]: the geometry in

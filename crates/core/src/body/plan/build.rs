@@ -718,7 +718,8 @@ pub(in crate::body) fn refine(
             run.iter()
                 .map(|&i| {
                     let (t0, t1) = (cuts[i].at, cuts[i + 1].at);
-                    let c = cut_and_fit(cutter, name, 0.5 * (t0 + t1), opts, shoulders).ok()?;
+                    let c =
+                        cut_and_fit(cutter, name, 0.5 * (t0 + t1), opts, shoulders, None).ok()?;
                     let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
                     let plausible =
                         c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);

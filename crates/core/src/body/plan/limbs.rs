@@ -63,6 +63,7 @@ impl LimbPlans<'_> {
                 watch_from: 0.5,
                 step,
                 against: EndArea::Largest,
+                within_last: false,
             },
             self.opts,
             warnings,
@@ -134,6 +135,7 @@ impl LimbPlans<'_> {
             watch_from: wrist,
             step: fine,
             against,
+            within_last: false,
         };
         cuts.extend(cut_to_rounded_end(self.cutter, name, hand, opts, warnings));
         Plan {
@@ -182,6 +184,7 @@ impl LimbPlans<'_> {
             watch_from: ankle,
             step: opts.foot_spacing * h / len,
             against: EndArea::Largest,
+            within_last: true,
         };
         cuts.extend(cut_to_rounded_end(
             self.cutter,

@@ -47,13 +47,16 @@ impl Clip {
     }
 }
 
-/// Cuts and fits `part` at `at` (through the cutter's shared slicers).
+/// Cuts and fits `part` at `at` (through the cutter's shared slicers): the
+/// loop around the axis point, or with `within` the largest loop whose
+/// centroid it accepts ([`Cutter::cut_within`]).
 pub(super) fn cut_and_fit(
     cutter: &Cutter<'_>,
     name: PartName,
     at: Real,
     opts: &ReconstructOptions,
     shoulders: Shoulders,
+    within: Option<&dyn Fn(Point3) -> bool>,
 ) -> Result<Cut, String> {
     let (body, seg) = (cutter.body(), cutter.segmentation());
     // Torso, head and legs (with the feet) are cut across the body's up
@@ -63,9 +66,11 @@ pub(super) fn cut_and_fit(
         PartName::LeftArm | PartName::RightArm => None,
         _ => Some(seg.frame.up),
     };
-    let mut cut = cutter
-        .cut(name, at, normal, true, &opts.segment)
-        .map_err(|e| e.to_string())?;
+    let mut cut = match within {
+        Some(within) => cutter.cut_within(name, at, normal, within, &opts.segment),
+        None => cutter.cut(name, at, normal, true, &opts.segment),
+    }
+    .map_err(|e| e.to_string())?;
     let mut clips = Vec::new();
     if name == PartName::Torso {
         cut.outline = torso_without_arms(seg, cut.outline, shoulders, &mut clips)
@@ -532,7 +537,7 @@ pub(super) fn cut_all(
     // Independent cuts: split over the cores, results in order.
     let cuts = parallel_map(ts, 4, |run| {
         run.iter()
-            .map(|&t| cut_and_fit(cutter, name, t, opts, shoulders))
+            .map(|&t| cut_and_fit(cutter, name, t, opts, shoulders, None))
             .collect()
     });
     let mut out = Vec::with_capacity(ts.len());
@@ -555,6 +560,10 @@ pub(super) struct RoundedEnd {
     pub(super) watch_from: Real,
     pub(super) step: Real,
     pub(super) against: EndArea,
+    /// Whether each loop after the first is taken inside the one before
+    /// ([`Cutter::cut_within`]): a foot's outlines run ahead of the ankle's
+    /// line down to the toes, which a low cut meets as separate loops.
+    pub(super) within_last: bool,
 }
 
 /// What a rounded end's loops are held against.
@@ -583,6 +592,7 @@ pub(super) fn cut_to_rounded_end(
         watch_from,
         step,
         against,
+        within_last,
     } = run;
     let mut reference: Real = 0.0;
     let mut failed = 0;
@@ -594,10 +604,14 @@ pub(super) fn cut_to_rounded_end(
     for chunk in ts.chunks(batch) {
         let cuts = parallel_map(chunk, 1, |run| {
             run.iter()
-                .map(|&t| cut_and_fit(cutter, name, t, opts, Shoulders::default()))
+                .map(|&t| cut_and_fit(cutter, name, t, opts, Shoulders::default(), None))
                 .collect()
         });
         for (&t, c) in chunk.iter().zip(cuts) {
+            let c = match out.last().filter(|_| within_last) {
+                Some(prev) => following(cutter, name, t, opts, prev).or(c),
+                None => c,
+            };
             let c = match c {
                 Ok(c) => c,
                 Err(e) => {
@@ -653,6 +667,25 @@ pub(super) fn holds_axis(cut: &Cut, torso: &PartAxis) -> bool {
 /// hand's loops shift by about a radius where the thumb leaves them).
 /// Where a foot's outlines end, the cut's nearest loop can be the other
 /// foot or another part touching this one.
+/// A test of whether a point, seen along `c`'s normal, lies inside it.
+fn inside_curve(c: &TrigCurve) -> impl Fn(Point3) -> bool + '_ {
+    let outline = c.sample_plane(96);
+    move |p| point_in_polygon(c.frame.to_plane(p), &outline)
+}
+
+/// The cut at `t` whose loop is the largest centred inside `prev`'s curve:
+/// where the loop around the axis point does not continue the run.
+fn following(
+    cutter: &Cutter<'_>,
+    name: PartName,
+    t: Real,
+    opts: &ReconstructOptions,
+    prev: &Cut,
+) -> Result<Cut, String> {
+    let within = inside_curve(&prev.fit.curve);
+    cut_and_fit(cutter, name, t, opts, Shoulders::default(), Some(&within))
+}
+
 pub(super) fn follows(prev: &Cut, next: &Cut) -> bool {
     let r = mean_radius(prev.area);
     let (a, b) = (prev.fit.curve.frame.origin, next.fit.curve.frame.origin);

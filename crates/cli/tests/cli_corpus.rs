@@ -152,8 +152,11 @@ fn one_body_of_each_pose_class_stays_reconstructed() {
     // Meshes whose far area (model farther than 10 mm from the truth) lay
     // mostly on a hand's paddle: a mesh hand's sections run on past the
     // palm while the fingers lie together (body_037: 0.53 % when they
-    // stopped at half the palm with its thumb). The target.
-    for name in ["body_032", "body_037"] {
+    // stopped at half the palm with its thumb). body_005's fingers are
+    // apart: its run takes their loops inside the palm's outline, a mitten
+    // (0.62 % when the loop round the axis was one finger, the run ended
+    // at the knuckles and a dome ballooned). The target.
+    for name in ["body_032", "body_037", "body_005"] {
         let row = rows.iter().find(|r| r[0] == name).unwrap();
         let far: f64 = row[col("model_far")].parse().unwrap();
         assert!(far <= 0.005, "{name}: far area {far} over 0.5 %");

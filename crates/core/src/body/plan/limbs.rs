@@ -63,7 +63,7 @@ impl LimbPlans<'_> {
                 watch_from: 0.5,
                 step,
                 against: EndArea::Largest,
-                within_last: false,
+                within_last: true,
             },
             self.opts,
             warnings,
@@ -130,12 +130,16 @@ impl LimbPlans<'_> {
             BodyGeometry::Mesh(_) => EndArea::First,
             BodyGeometry::Cloud(_) => EndArea::Largest,
         };
+        // A mesh's fingers apart are loops of their own past the knuckles:
+        // the run takes them inside the palm's outline (a mitten). A
+        // scan's slab there is one blob already, and taking the loops
+        // inside the last one changed no corpus scan's hand for the better.
         let hand = RoundedEnd {
             t0: wrist,
             watch_from: wrist,
             step: fine,
             against,
-            within_last: false,
+            within_last: against == EndArea::First,
         };
         cuts.extend(cut_to_rounded_end(self.cutter, name, hand, opts, warnings));
         Plan {

@@ -560,9 +560,9 @@ pub(super) struct RoundedEnd {
     pub(super) watch_from: Real,
     pub(super) step: Real,
     pub(super) against: EndArea,
-    /// Whether each loop after the first is taken inside the one before
-    /// ([`Cutter::cut_within`]): a foot's outlines run ahead of the ankle's
-    /// line down to the toes, which a low cut meets as separate loops.
+    /// Whether each loop after the first is made of the plane's loops
+    /// inside the one before ([`Cutter::cut_within`]) rather than the one
+    /// round the axis.
     pub(super) within_last: bool,
 }
 

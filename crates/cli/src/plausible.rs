@@ -69,11 +69,11 @@ fn longest_side(b: &Aabb) -> Real {
 /// size (two people in one file); small pieces (eyes, stray points) and a
 /// piece inside another (a mouth, an inner layer) do not count.
 pub fn check_one_body(name: &str, geometry: &Geometry, units: Units) -> Result<()> {
-    let boxes = match geometry {
-        Geometry::Mesh(m) => component_boxes(&m.positions, &mesh_components(m)),
-        Geometry::Points(c) => cloud_component_boxes(&c.positions),
+    let (points, labels) = match geometry {
+        Geometry::Mesh(m) => (&m.positions[..], mesh_components(m)),
+        Geometry::Points(c) => (&c.positions[..], cloud_components(&c.positions)),
     };
-    let mut boxes = clusters(boxes);
+    let mut boxes = clusters(points, &labels);
     boxes.sort_by(|a, b| longest_side(b).total_cmp(&longest_side(a)));
     let Some(first) = boxes.first().copied() else {
         return Ok(());
@@ -106,42 +106,62 @@ pub fn check_one_body(name: &str, geometry: &Geometry, units: Units) -> Result<(
     )))
 }
 
-/// The pieces of one body overlap (a tessellated model's parts are separate
-/// meshes; a scan's arm may be cut off at the shoulder): pieces larger than
-/// 2 % of the largest whose boxes touch are merged, and each group's box is
-/// returned. Two people side by side have boxes apart.
-fn clusters(boxes: Vec<Aabb>) -> Vec<Aabb> {
-    let big = boxes.iter().map(longest_side).fold(0.0, Real::max);
-    let mut boxes: Vec<Aabb> = boxes
-        .into_iter()
-        .filter(|b| longest_side(b) >= 0.02 * big)
-        .collect();
-    if boxes.len() > 1000 {
+/// The pieces of one body come close (a tessellated model's parts are
+/// separate meshes that cross; a scan's arm may be cut off at the shoulder):
+/// pieces larger than 2 % of the largest with points within about 2 % of
+/// its extent of each other (in the same or neighbouring cells of a grid of
+/// 1 %) are merged, and each group's box is returned. Two people side by
+/// side are apart, though their boxes overlap where arms held out reach
+/// past the other's side.
+fn clusters(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
+    let mut pieces = component_boxes(points, label);
+    let big = pieces.values().map(longest_side).fold(0.0, Real::max);
+    pieces.retain(|_, b| longest_side(b) >= 0.02 * big);
+    if pieces.len() > 1000 {
         // A soup of large unconnected faces: no pieces to tell apart.
         return Vec::new();
     }
-    let margin = 0.01 * big;
-    let touch = |a: &Aabb, b: &Aabb| {
-        (0..3).all(|k| a.min[k] - margin <= b.max[k] && b.min[k] - margin <= a.max[k])
-    };
-    // Merge until no two boxes touch (few boxes: quadratic is fine).
-    loop {
-        let mut merged = false;
-        'outer: for i in 0..boxes.len() {
-            for j in i + 1..boxes.len() {
-                if touch(&boxes[i], &boxes[j]) {
-                    let b = boxes.swap_remove(j);
-                    boxes[i].min = boxes[i].min.min(b.min);
-                    boxes[i].max = boxes[i].max.max(b.max);
-                    merged = true;
-                    break 'outer;
+    let ids: Vec<usize> = pieces.keys().copied().collect();
+    let index: std::collections::HashMap<usize, usize> =
+        ids.iter().enumerate().map(|(k, &l)| (l, k)).collect();
+    let mut parent: Vec<usize> = (0..ids.len()).collect();
+    let cell = (0.01 * big).max(Real::MIN_POSITIVE);
+    let key = |p: &Point3| [p.x, p.y, p.z].map(|v| (v / cell).floor() as i64);
+    let mut cells: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
+    for (p, l) in points.iter().zip(label) {
+        if let (Some(&k), true) = (index.get(l), p.is_finite()) {
+            let here = cells.entry(key(p)).or_default();
+            if !here.contains(&k) {
+                here.push(k);
+            }
+        }
+    }
+    for (c, here) in &cells {
+        for d in 0..27i64 {
+            let n = [c[0] + d % 3 - 1, c[1] + (d / 3) % 3 - 1, c[2] + d / 9 - 1];
+            let Some(there) = cells.get(&n) else {
+                continue;
+            };
+            for &a in here {
+                for &b in there {
+                    let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+                    parent[rb] = ra;
                 }
             }
         }
-        if !merged {
-            return boxes;
-        }
     }
+    let mut groups: std::collections::HashMap<usize, Aabb> = Default::default();
+    for (k, l) in ids.iter().enumerate() {
+        let b = pieces[l];
+        groups
+            .entry(root(&mut parent, k))
+            .and_modify(|g| {
+                g.min = g.min.min(b.min);
+                g.max = g.max.max(b.max);
+            })
+            .or_insert(b);
+    }
+    groups.into_values().collect()
 }
 
 /// Whether at least half of `b`'s box lies inside `outer`'s.
@@ -177,7 +197,7 @@ fn mesh_components(m: &trigbody_core::Mesh) -> Vec<usize> {
 }
 
 /// The bounding box of every component (by label) that has points.
-fn component_boxes(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
+fn component_boxes(points: &[Point3], label: &[usize]) -> std::collections::HashMap<usize, Aabb> {
     let mut boxes: std::collections::HashMap<usize, Aabb> = Default::default();
     for (p, &l) in points.iter().zip(label) {
         boxes
@@ -188,22 +208,20 @@ fn component_boxes(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
             })
             .or_insert(Aabb { min: *p, max: *p });
     }
-    boxes.into_values().collect()
+    boxes
 }
 
 /// A cloud's pieces: points in touching cells of a grid 1/60 of its extent
 /// (about 3 cm on a standing body: a gap wider than that separates).
-fn cloud_component_boxes(points: &[Point3]) -> Vec<Aabb> {
+fn cloud_components(points: &[Point3]) -> Vec<usize> {
     let Some(b) = Aabb::from_points(points) else {
-        return Vec::new();
+        return vec![0; points.len()];
     };
     let cell = (longest_side(&b) / 60.0).max(Real::MIN_POSITIVE);
-    let label: Vec<usize> =
-        trigbody_core::internals::spatial::cloud_clean::voxel_components(points, b.min, cell)
-            .into_iter()
-            .map(|c| c as usize)
-            .collect();
-    component_boxes(points, &label)
+    trigbody_core::internals::spatial::cloud_clean::voxel_components(points, b.min, cell)
+        .into_iter()
+        .map(|c| c as usize)
+        .collect()
 }
 
 #[cfg(test)]
@@ -250,6 +268,33 @@ mod tests {
             normals: None,
         });
         check_one_body("one.ply", &cloud, Units::Metres).unwrap();
+    }
+
+    /// Points every 5 mm from `a` to `b`.
+    fn line(a: Vec3, b: Vec3) -> Vec<Point3> {
+        let n = ((b - a).norm() / 0.005).ceil() as usize;
+        (0..=n)
+            .map(|i| a + (b - a) * (i as Real / n as Real))
+            .collect()
+    }
+
+    /// Two people whose arms held out reach past each other's side, 10 cm
+    /// apart (one on a step): their boxes overlap, their points do not
+    /// come near. Merged by their boxes, they were reconstructed as one
+    /// body at 337 mm RMS, exit 0.
+    #[test]
+    fn people_whose_boxes_overlap_are_still_two() {
+        let v = Vec3::new;
+        let mut two = line(v(0.0, 0.0, 0.0), v(0.0, 1.7, 0.0));
+        two.extend(line(v(0.0, 1.4, 0.0), v(0.9, 1.4, 0.0)));
+        two.extend(line(v(1.0, 0.3, 0.0), v(1.0, 2.0, 0.0)));
+        two.extend(line(v(1.0, 1.0, 0.0), v(0.1, 1.0, 0.0)));
+        let cloud = Geometry::Points(PointCloud {
+            positions: two,
+            normals: None,
+        });
+        let e = check_one_body("two.ply", &cloud, Units::Metres).unwrap_err();
+        assert!(e.to_string().contains("2 separate bodies"), "{e}");
     }
 
     #[test]

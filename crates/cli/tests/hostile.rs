@@ -386,13 +386,10 @@ fn implausible_units_and_sizes_are_refused_with_the_unit_that_fits() {
     );
 }
 
-#[test]
-fn two_people_in_one_file_are_refused() {
-    let d = scratch("two");
-    let one = scaled_body(1.0, 0.0);
+/// The built-in body and a second copy of it in one OBJ file.
+fn two_bodies(one: &str, second: &str) -> String {
     let verts = one.lines().filter(|l| l.starts_with("v ")).count();
-    let second = scaled_body(1.0, 2.0);
-    let mut text = one.clone();
+    let mut text = one.to_string();
     text.push_str(
         &second
             .lines()
@@ -414,6 +411,14 @@ fn two_people_in_one_file_are_refused() {
             .collect();
         text.push_str(&format!("f {}\n", shifted.join(" ")));
     }
+    text
+}
+
+#[test]
+fn two_people_in_one_file_are_refused() {
+    let d = scratch("two");
+    let one = scaled_body(1.0, 0.0);
+    let text = two_bodies(&one, &scaled_body(1.0, 2.0));
     let two = write(&d, "two.obj", &text);
     case(
         &d,
@@ -430,6 +435,25 @@ fn two_people_in_one_file_are_refused() {
         "",
     );
     case(&d, &["reconstruct", "two.ply"], 2, "2 separate bodies");
+    // The second 1 m to the side and on a 0.3 m step: their arms reach
+    // past each other's side 10 cm apart, so their boxes overlap (one
+    // body at 337 mm RMS, exit 0, when pieces were merged by boxes).
+    let step: String = scaled_body(1.0, 1.0)
+        .lines()
+        .map(|l| match l.strip_prefix("v ") {
+            Some(rest) => {
+                let c: Vec<f64> = rest
+                    .split_whitespace()
+                    .map(|t| t.parse().unwrap())
+                    .collect();
+                format!("v {} {} {}\n", c[0], c[1] + 0.3, c[2])
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    let stepped = write(&d, "step.obj", &two_bodies(&one, &step));
+    let args = ["reconstruct", &stepped, "--up-axis", "y", "-o", "s.json"];
+    case(&d, &args, 2, "2 separate bodies");
 }
 
 #[test]

@@ -537,6 +537,10 @@ pub fn reconstruct_with_progress(
     };
     let mut warnings = prepared.warnings(&mut report, opts.units);
     warnings.append(&mut report.warnings);
+    // A part rebuilt after a dropped section says again what it dropped
+    // before: each warning once, in order.
+    let mut seen = std::collections::HashSet::new();
+    warnings.retain(|w| seen.insert(w.clone()));
     report.warnings = warnings;
     let model = match &own {
         Some((_, into)) => {

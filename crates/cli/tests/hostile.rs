@@ -80,6 +80,11 @@ fn scratch(name: &str) -> PathBuf {
 
 /// The built-in body with every vertex scaled by `s` (and moved by `dx` in x).
 fn scaled_body(s: f64, dx: f64) -> String {
+    placed_body(s, dx, 0.0)
+}
+
+/// The built-in body scaled by `s` and moved by `dx` in x and `dy` in y.
+fn placed_body(s: f64, dx: f64, dy: f64) -> String {
     let text = std::fs::read_to_string(BODY).unwrap();
     text.lines()
         .map(|l| match l.strip_prefix("v ") {
@@ -88,7 +93,7 @@ fn scaled_body(s: f64, dx: f64) -> String {
                     .split_whitespace()
                     .map(|t| t.parse().unwrap())
                     .collect();
-                format!("v {} {} {}\n", s * c[0] + dx, s * c[1], s * c[2])
+                format!("v {} {} {}\n", s * c[0] + dx, s * c[1] + dy, s * c[2])
             }
             None => format!("{l}\n"),
         })
@@ -438,19 +443,7 @@ fn two_people_in_one_file_are_refused() {
     // The second 1 m to the side and on a 0.3 m step: their arms reach
     // past each other's side 10 cm apart, so their boxes overlap (one
     // body at 337 mm RMS, exit 0, when pieces were merged by boxes).
-    let step: String = scaled_body(1.0, 1.0)
-        .lines()
-        .map(|l| match l.strip_prefix("v ") {
-            Some(rest) => {
-                let c: Vec<f64> = rest
-                    .split_whitespace()
-                    .map(|t| t.parse().unwrap())
-                    .collect();
-                format!("v {} {} {}\n", c[0], c[1] + 0.3, c[2])
-            }
-            None => format!("{l}\n"),
-        })
-        .collect();
+    let step = placed_body(1.0, 1.0, 0.3);
     let stepped = write(&d, "step.obj", &two_bodies(&one, &step));
     let args = ["reconstruct", &stepped, "--up-axis", "y", "-o", "s.json"];
     case(&d, &args, 2, "2 separate bodies");

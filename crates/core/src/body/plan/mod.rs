@@ -48,8 +48,8 @@ impl Clip {
 }
 
 /// Cuts and fits `part` at `at` (through the cutter's shared slicers): the
-/// loop around the axis point, or with `within` the largest loop whose
-/// centroid it accepts ([`Cutter::cut_within`]).
+/// loop around the axis point, or with `within` the loops whose centroids
+/// it accepts ([`Cutter::cut_within`]).
 pub(super) fn cut_and_fit(
     cutter: &Cutter<'_>,
     name: PartName,
@@ -602,15 +602,23 @@ pub(super) fn cut_to_rounded_end(
     // cuts past the end (at most one batch) are made and dropped.
     let batch = rayon::current_num_threads().clamp(1, 8);
     for chunk in ts.chunks(batch) {
-        let cuts = parallel_map(chunk, 1, |run| {
-            run.iter()
-                .map(|&t| cut_and_fit(cutter, name, t, opts, Shoulders::default(), None))
-                .collect()
-        });
+        // A run that takes each loop inside the last one cuts in order once
+        // it has a first loop; the loop round the axis, its fallback, is
+        // cut only when needed.
+        let ahead = !within_last || out.is_empty();
+        let around = |t: Real| cut_and_fit(cutter, name, t, opts, Shoulders::default(), None);
+        let cuts: Vec<Option<Result<Cut, String>>> = if ahead {
+            parallel_map(chunk, 1, |run| {
+                run.iter().map(|&t| Some(around(t))).collect()
+            })
+        } else {
+            chunk.iter().map(|_| None).collect()
+        };
         for (&t, c) in chunk.iter().zip(cuts) {
             let c = match out.last().filter(|_| within_last) {
-                Some(prev) => following(cutter, name, t, opts, prev).or(c),
-                None => c,
+                Some(prev) => following(cutter, name, t, opts, prev)
+                    .or_else(|_| c.unwrap_or_else(|| around(t))),
+                None => c.unwrap_or_else(|| around(t)),
             };
             let c = match c {
                 Ok(c) => c,
@@ -662,19 +670,14 @@ pub(super) fn holds_axis(cut: &Cut, torso: &PartAxis) -> bool {
     })
 }
 
-/// Whether `next` continues the part `prev` belongs to: its centre lies
-/// within twice `prev`'s mean radius `√(A/π)` of `prev`'s centre (a
-/// hand's loops shift by about a radius where the thumb leaves them).
-/// Where a foot's outlines end, the cut's nearest loop can be the other
-/// foot or another part touching this one.
 /// A test of whether a point, seen along `c`'s normal, lies inside it.
 fn inside_curve(c: &TrigCurve) -> impl Fn(Point3) -> bool + '_ {
     let outline = c.sample_plane(96);
     move |p| point_in_polygon(c.frame.to_plane(p), &outline)
 }
 
-/// The cut at `t` whose loop is the largest centred inside `prev`'s curve:
-/// where the loop around the axis point does not continue the run.
+/// The cut at `t` made of the loops centred inside `prev`'s curve
+/// ([`Cutter::cut_within`]).
 fn following(
     cutter: &Cutter<'_>,
     name: PartName,
@@ -686,6 +689,11 @@ fn following(
     cut_and_fit(cutter, name, t, opts, Shoulders::default(), Some(&within))
 }
 
+/// Whether `next` continues the part `prev` belongs to: its centre lies
+/// within twice `prev`'s mean radius `√(A/π)` of `prev`'s centre (a
+/// hand's loops shift by about a radius where the thumb leaves them).
+/// Where a foot's outlines end, the cut's nearest loop can be the other
+/// foot or another part touching this one.
 pub(super) fn follows(prev: &Cut, next: &Cut) -> bool {
     let r = mean_radius(prev.area);
     let (a, b) = (prev.fit.curve.frame.origin, next.fit.curve.frame.origin);

@@ -5,6 +5,7 @@
 
 use crate::exit::bad;
 use anyhow::Result;
+use trigbody_core::internals::geom::union_find::root;
 use trigbody_core::Units;
 use trigbody_core::{Aabb, Point3, Real};
 use trigbody_io::Geometry;
@@ -124,12 +125,13 @@ fn clusters(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
     let ids: Vec<usize> = pieces.keys().copied().collect();
     let index: std::collections::HashMap<usize, usize> =
         ids.iter().enumerate().map(|(k, &l)| (l, k)).collect();
-    let mut parent: Vec<usize> = (0..ids.len()).collect();
+    let mut parent: Vec<u32> = (0..ids.len() as u32).collect();
     let cell = (0.01 * big).max(Real::MIN_POSITIVE);
     let key = |p: &Point3| [p.x, p.y, p.z].map(|v| (v / cell).floor() as i64);
-    let mut cells: std::collections::HashMap<[i64; 3], Vec<usize>> = Default::default();
+    let mut cells: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
     for (p, l) in points.iter().zip(label) {
         if let (Some(&k), true) = (index.get(l), p.is_finite()) {
+            let k = k as u32;
             let here = cells.entry(key(p)).or_default();
             if !here.contains(&k) {
                 here.push(k);
@@ -145,16 +147,16 @@ fn clusters(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
             for &a in here {
                 for &b in there {
                     let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
-                    parent[rb] = ra;
+                    parent[rb as usize] = ra;
                 }
             }
         }
     }
-    let mut groups: std::collections::HashMap<usize, Aabb> = Default::default();
+    let mut groups: std::collections::HashMap<u32, Aabb> = Default::default();
     for (k, l) in ids.iter().enumerate() {
         let b = pieces[l];
         groups
-            .entry(root(&mut parent, k))
+            .entry(root(&mut parent, k as u32))
             .and_modify(|g| {
                 g.min = g.min.min(b.min);
                 g.max = g.max.max(b.max);
@@ -174,26 +176,19 @@ fn mostly_inside(b: &Aabb, outer: &Aabb) -> bool {
     shared >= 0.5 * vol(b.max - b.min)
 }
 
-/// Union-find root with path halving.
-fn root(parent: &mut [usize], mut i: usize) -> usize {
-    while parent[i] != i {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    i
-}
-
 /// The component of every vertex: vertices joined by triangles.
 fn mesh_components(m: &trigbody_core::Mesh) -> Vec<usize> {
-    let mut parent: Vec<usize> = (0..m.positions.len()).collect();
+    let mut parent: Vec<u32> = (0..m.positions.len() as u32).collect();
     for t in &m.triangles {
-        let a = root(&mut parent, t[0] as usize);
+        let a = root(&mut parent, t[0]);
         for &v in &t[1..] {
-            let b = root(&mut parent, v as usize);
-            parent[b] = a;
+            let b = root(&mut parent, v);
+            parent[b as usize] = a;
         }
     }
-    (0..parent.len()).map(|i| root(&mut parent, i)).collect()
+    (0..parent.len() as u32)
+        .map(|i| root(&mut parent, i) as usize)
+        .collect()
 }
 
 /// The bounding box of every component (by label) that has points.

@@ -96,6 +96,7 @@ pub mod internals {
     pub mod geom {
         pub use crate::geom::{
             linalg, math, mesh, parallel, rigid, rng, shapes, stats, subdivide, tolerance,
+            union_find,
         };
     }
     /// The `spatial` layer.

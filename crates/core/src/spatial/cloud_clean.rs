@@ -36,6 +36,7 @@ use crate::geom::linalg::principal;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{central_extent, PointCloud};
 use crate::geom::stats::{median, nth_smallest};
+use crate::geom::union_find::root;
 
 /// Options of [`clean_cloud`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -452,13 +453,6 @@ impl Voxels {
             }
         }
         let mut parent: Vec<u32> = (0..n as u32).collect();
-        fn root(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                parent[i as usize] = parent[parent[i as usize] as usize];
-                i = parent[i as usize];
-            }
-            i
-        }
         for (i, k) in self.keys.iter().enumerate() {
             if !kept_voxel[i] {
                 continue;

@@ -31,6 +31,7 @@
 
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
+use crate::geom::union_find::root;
 use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{Error as ManifoldError, MeshGL64, WindingRule};
 use thiserror::Error;
@@ -200,16 +201,9 @@ fn shells(m: &Mesh) -> Vec<(usize, Real)> {
 /// component, its triangle count and signed volume.
 fn shell_labels(m: &Mesh) -> (Vec<u32>, Vec<(usize, Real)>) {
     let mut parent: Vec<u32> = (0..m.positions.len() as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
     for t in &m.triangles {
         for k in 1..3 {
-            let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
+            let (a, b) = (root(&mut parent, t[0]), root(&mut parent, t[k]));
             if a != b {
                 parent[a as usize] = b;
             }
@@ -221,16 +215,16 @@ fn shell_labels(m: &Mesh) -> (Vec<u32>, Vec<(usize, Real)>) {
         .triangles
         .iter()
         .map(|t| {
-            let root = find(&mut parent, t[0]) as usize;
-            if index[root] == u32::MAX {
-                index[root] = shells.len() as u32;
+            let r = root(&mut parent, t[0]) as usize;
+            if index[r] == u32::MAX {
+                index[r] = shells.len() as u32;
                 shells.push((0, 0.0));
             }
             let [a, b, c] = t.map(|v| m.positions[v as usize]);
-            let s = &mut shells[index[root] as usize];
+            let s = &mut shells[index[r] as usize];
             s.0 += 1;
             s.1 += a.dot(b.cross(c)) / 6.0;
-            index[root]
+            index[r]
         })
         .collect();
     (labels, shells)

@@ -35,6 +35,7 @@
 
 use crate::geom::math::{Point3, Vec3};
 use crate::geom::mesh::Mesh;
+use crate::geom::union_find::root;
 use crate::spatial::tri_intersect::{pair_intersects_within, ray_crosses, triangle_boxes, Tree};
 use std::collections::HashMap;
 
@@ -288,13 +289,6 @@ fn arranged_neighbourhood(
     let graph = manifold_rust::robust::intersection_graph::build_graph(&tris, &[]);
     // Regions: pieces joined across edges that are not crossings.
     let mut parent: Vec<u32> = (0..graph.pieces.len() as u32).collect();
-    fn find(p: &mut [u32], mut x: u32) -> u32 {
-        while p[x as usize] != x {
-            p[x as usize] = p[p[x as usize] as usize];
-            x = p[x as usize];
-        }
-        x
-    }
     let mut first: HashMap<(u32, u32), u32> = HashMap::new();
     for (i, pc) in graph.pieces.iter().enumerate() {
         for k in 0..3 {
@@ -303,13 +297,13 @@ fn arranged_neighbourhood(
                 continue;
             }
             let j = *first.entry(e).or_insert(i as u32);
-            let (a, b) = (find(&mut parent, i as u32), find(&mut parent, j));
+            let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j));
             parent[a as usize] = b;
         }
     }
     let mut members: HashMap<u32, Vec<u32>> = HashMap::new();
     for i in 0..graph.pieces.len() as u32 {
-        let r = find(&mut parent, i);
+        let r = root(&mut parent, i);
         members.entry(r).or_default().push(i);
     }
     let regions: Vec<(u32, Vec<u32>)> = members.into_iter().collect();

@@ -73,6 +73,7 @@ use crate::geom::math::{mean_radius, Point3, Real, Vec3};
 use crate::geom::mesh::{concatenate, Aabb, Mesh};
 use crate::geom::parallel::each_on_cores;
 use crate::geom::tolerance::{GEOMETRIC_EPS, ROUNDING_MARGIN};
+use crate::geom::union_find::root;
 use crate::spatial::distance::MeshDistance;
 use std::ops::Range;
 
@@ -701,21 +702,13 @@ fn regions(
         }
     }
     let mut parent: Vec<u32> = (0..deep.len() as u32).collect();
-    fn find(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let up = parent[parent[i as usize] as usize];
-            parent[i as usize] = up;
-            i = up;
-        }
-        i
-    }
     for v in 0..vertices.len() {
         let list = &around[start[v] as usize..start[v + 1] as usize];
         for (k, &i) in list.iter().enumerate() {
             for &j in &list[k + 1..] {
                 let ((_, ci, di), (_, cj, dj)) = (deep[i as usize], deep[j as usize]);
                 if di + dj > ci.distance(cj) {
-                    let (x, y) = (find(&mut parent, i), find(&mut parent, j));
+                    let (x, y) = (root(&mut parent, i), root(&mut parent, j));
                     parent[x as usize] = y;
                 }
             }
@@ -724,12 +717,12 @@ fn regions(
     let mut region_of_root = vec![u32::MAX; deep.len()];
     let mut out: Vec<(Vec<usize>, Point3, Real)> = Vec::new();
     for (i, &(t, c, d)) in deep.iter().enumerate() {
-        let root = find(&mut parent, i as u32) as usize;
-        if region_of_root[root] == u32::MAX {
-            region_of_root[root] = out.len() as u32;
+        let r = root(&mut parent, i as u32) as usize;
+        if region_of_root[r] == u32::MAX {
+            region_of_root[r] = out.len() as u32;
             out.push((Vec::new(), c, d));
         }
-        let region = &mut out[region_of_root[root] as usize];
+        let region = &mut out[region_of_root[r] as usize];
         region.0.push(t);
         if d > region.2 {
             region.1 = c;

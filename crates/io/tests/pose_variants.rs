@@ -14,7 +14,7 @@
 
 use trigbody_core::internals::segment::PartAxis;
 use trigbody_core::{reconstruct, Body, ReconstructOptions, Report};
-use trigbody_core::{segment, BodyGeometry, PartName, SegmentOptions};
+use trigbody_core::{segment, BodyGeometry, PartName, SegmentOptions, Segmentation};
 use trigbody_core::{virtual_scan, ScannerOptions};
 use trigbody_core::{Mesh, Point3, Real, Vec3};
 use trigbody_io::{read_mesh, ReadOptions};
@@ -186,12 +186,18 @@ fn check(name: &str, body: &Body, r: &Report, lim: &Limits) {
     }
 }
 
-#[test]
-fn re_posed_and_re_shaped_bodies_reconstruct() {
+/// The built-in body and its segmentation.
+fn built_in() -> (Mesh, Segmentation) {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
     let mesh = read_mesh(&path, &ReadOptions::default()).expect("reads the built-in body");
     let seg = segment(BodyGeometry::Mesh(&mesh), &SegmentOptions::default()).expect("segments");
+    (mesh, seg)
+}
+
+#[test]
+fn re_posed_and_re_shaped_bodies_reconstruct() {
+    let (mesh, seg) = built_in();
     let up = seg.frame.up;
     let arms = [PartName::LeftArm, PartName::RightArm];
     let legs = [PartName::LeftLeg, PartName::RightLeg];
@@ -276,10 +282,7 @@ fn re_posed_and_re_shaped_bodies_reconstruct() {
 /// hand's height, and the model's head ends there.
 #[test]
 fn a_hand_raised_above_the_head_is_not_the_head_top() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
-    let mesh = read_mesh(&path, &ReadOptions::default()).expect("reads the built-in body");
-    let seg = segment(BodyGeometry::Mesh(&mesh), &SegmentOptions::default()).expect("segments");
+    let (mesh, seg) = built_in();
     let up = seg.frame.up;
     let head = seg.part(PartName::Head).expect("a head");
     let column = *head.points.last().unwrap();

@@ -75,7 +75,17 @@ pub fn check_one_body(name: &str, geometry: &Geometry, units: Units) -> Result<(
         Geometry::Points(c) => (&c.positions[..], cloud_components(&c.positions)),
     };
     let mut boxes = clusters(points, &labels);
-    boxes.sort_by(|a, b| longest_side(b).total_cmp(&longest_side(a)));
+    // Largest first; equal sizes in a fixed order (the groups come out of
+    // a hash map), so the first box, which the others are held against,
+    // does not change from run to run.
+    boxes.sort_by(|a, b| {
+        let corner = |x: &Aabb| [x.min.x, x.min.y, x.min.z];
+        longest_side(b).total_cmp(&longest_side(a)).then_with(|| {
+            corner(a)
+                .partial_cmp(&corner(b))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })
+    });
     let Some(first) = boxes.first().copied() else {
         return Ok(());
     };
@@ -117,6 +127,11 @@ pub fn check_one_body(name: &str, geometry: &Geometry, units: Units) -> Result<(
 fn clusters(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
     let mut pieces = component_boxes(points, label);
     let big = pieces.values().map(longest_side).fold(0.0, Real::max);
+    if !(big > 0.0) {
+        // Only single points (a cloud too sparse to join): nothing to merge,
+        // and no grid to merge them on.
+        return pieces.into_values().collect();
+    }
     pieces.retain(|_, b| longest_side(b) >= 0.02 * big);
     if pieces.len() > 1000 {
         // A soup of large unconnected faces: no pieces to tell apart.
@@ -126,7 +141,7 @@ fn clusters(points: &[Point3], label: &[usize]) -> Vec<Aabb> {
     let index: std::collections::HashMap<usize, usize> =
         ids.iter().enumerate().map(|(k, &l)| (l, k)).collect();
     let mut parent: Vec<u32> = (0..ids.len() as u32).collect();
-    let cell = (0.01 * big).max(Real::MIN_POSITIVE);
+    let cell = 0.01 * big;
     let key = |p: &Point3| [p.x, p.y, p.z].map(|v| (v / cell).floor() as i64);
     let mut cells: std::collections::HashMap<[i64; 3], Vec<u32>> = Default::default();
     for (p, l) in points.iter().zip(label) {
@@ -290,6 +305,25 @@ mod tests {
         });
         let e = check_one_body("two.ply", &cloud, Units::Metres).unwrap_err();
         assert!(e.to_string().contains("2 separate bodies"), "{e}");
+    }
+
+    /// A sheet of points farther apart than a cloud's pieces join: every
+    /// point a piece of no extent, none of them a body, on every run (the
+    /// merging grid once took its cell from a zero extent and put every
+    /// point in one of two cells; which pieces came first in a hash map then
+    /// decided between "2 separate bodies" and no complaint).
+    #[test]
+    fn a_sparse_sheet_is_not_two_bodies() {
+        let sheet: Vec<Point3> = (0..900)
+            .map(|i| Vec3::new((i % 30) as Real / 29.0, (i / 30) as Real / 29.0, 0.0))
+            .collect();
+        let cloud = Geometry::Points(PointCloud {
+            positions: sheet,
+            normals: None,
+        });
+        for _ in 0..20 {
+            check_one_body("sheet.xyz", &cloud, Units::Metres).unwrap();
+        }
     }
 
     #[test]

@@ -30,19 +30,27 @@ pub(crate) fn triangle_boxes(m: &Mesh) -> Vec<Aabb> {
 
 /// The number of intersecting pairs of `m`'s triangles (see the module doc).
 pub fn intersecting_pairs(m: &Mesh) -> usize {
+    intersecting_pair_list(m).len()
+}
+
+/// The intersecting pairs of `m`'s triangles (see the module doc), in the
+/// hierarchy's order.
+pub fn intersecting_pair_list(m: &Mesh) -> Vec<(u32, u32)> {
     let tree = Tree::new(&triangle_boxes(m));
     let mut pairs = Vec::new();
     tree.overlapping_pairs(&mut pairs);
-    let count = |chunk: &[(u32, u32)]| {
+    let crossing = |chunk: &[(u32, u32)]| -> Vec<(u32, u32)> {
         chunk
             .iter()
-            .filter(|&&(s, t)| pair_intersects(m, s as usize, t as usize))
-            .count()
+            .copied()
+            .filter(|&(s, t)| pair_intersects(m, s as usize, t as usize))
+            .collect()
     };
     let chunks: Vec<&[(u32, u32)]> = pairs.chunks(4096).collect();
-    crate::geom::parallel::each_on_cores(&chunks, |c| count(c))
+    crate::geom::parallel::each_on_cores(&chunks, |c| crossing(c))
         .into_iter()
-        .sum()
+        .flatten()
+        .collect()
 }
 
 /// Whether triangles `s` and `t` of `m` intersect (module doc).

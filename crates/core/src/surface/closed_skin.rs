@@ -60,7 +60,7 @@ pub enum ClosedSkinError {
 pub fn closed_skin(solids: &[Mesh], cavities: &[Mesh]) -> Result<Mesh, ClosedSkinError> {
     let (soup, piece) = closed_soup(solids, cavities)?;
     match crate::surface::local_skin::local_closed_skin(&soup, &piece) {
-        Some(skin) => Ok(without_specks(skin)),
+        Some(skin) => Ok(without_slivers(without_specks(skin))),
         None => whole_soup_skin(&soup),
     }
 }
@@ -105,7 +105,9 @@ pub fn whole_soup_skin(soup: &Mesh) -> Result<Mesh, ClosedSkinError> {
     let imported = Manifold::from_mesh_gl64_robust(&mesh_gl(soup));
     let skin = imported.rebuild_solid(WindingRule::Positive);
     match skin.status() {
-        ManifoldError::NoError => Ok(without_specks(from_mesh_gl(&skin.get_mesh_gl64(-1)))),
+        ManifoldError::NoError => Ok(without_slivers(without_specks(from_mesh_gl(
+            &skin.get_mesh_gl64(-1),
+        )))),
         e => Err(ClosedSkinError::Boolean {
             why: format!("{e:?}"),
         }),
@@ -244,6 +246,110 @@ fn without_specks(m: Mesh) -> Mesh {
         shells[labels[t] as usize].1.abs() >= SPECK * largest
     })
 }
+
+/// `m` with its edges shorter than [`SLIVER`] times its size collapsed:
+/// the exact arrangement's crossing points, rounded to floating point,
+/// leave micro-triangles (edges of 1e-7 m, areas of 1e-16 m²) where two
+/// pieces' surfaces nearly coincide (head and torso ending on one plane),
+/// and a rounded micro-triangle can cross its neighbour. Each short edge
+/// is collapsed onto one end, the two triangles on it going, where the
+/// two ends share no neighbour but those triangles' third vertices (the
+/// link condition: the surface stays a manifold). `m` as given when
+/// nothing is that short, or when the result is not closed and
+/// consistently oriented.
+fn without_slivers(m: Mesh) -> Mesh {
+    let Some(b) = m.bounds() else {
+        return m;
+    };
+    let limit = SLIVER * (b.max - b.min).norm();
+    let length = |t: &[u32; 3], k: usize| {
+        m.positions[t[k] as usize].distance(m.positions[t[(k + 1) % 3] as usize])
+    };
+    let short: Vec<(u32, u32)> = m
+        .triangles
+        .iter()
+        .flat_map(|t| {
+            (0..3)
+                .filter(move |&k| length(t, k) < limit)
+                .map(move |k| (t[k], t[(k + 1) % 3]))
+        })
+        .filter(|(a, b)| a < b)
+        .collect();
+    if short.is_empty() {
+        return m;
+    }
+    let mut triangles = m.triangles.clone();
+    let mut alive = vec![true; triangles.len()];
+    let mut around: Vec<Vec<usize>> = vec![Vec::new(); m.positions.len()];
+    for (i, t) in triangles.iter().enumerate() {
+        for &v in t {
+            around[v as usize].push(i);
+        }
+    }
+    for (a, b) in short {
+        let live = |v: u32, alive: &[bool], around: &[Vec<usize>]| -> Vec<usize> {
+            around[v as usize]
+                .iter()
+                .copied()
+                .filter(|&i| alive[i])
+                .collect()
+        };
+        let (ta, tb) = (live(a, &alive, &around), live(b, &alive, &around));
+        let on_edge: Vec<usize> = ta.iter().copied().filter(|i| tb.contains(i)).collect();
+        if on_edge.len() != 2 {
+            continue; // already collapsed away, or not a manifold edge
+        }
+        let ring = |ts: &[usize]| -> std::collections::BTreeSet<u32> {
+            ts.iter().flat_map(|&i| triangles[i]).collect()
+        };
+        let (ra, rb) = (ring(&ta), ring(&tb));
+        let mut common: Vec<u32> = ra
+            .intersection(&rb)
+            .copied()
+            .filter(|&v| v != a && v != b)
+            .collect();
+        let mut opposite: Vec<u32> = on_edge
+            .iter()
+            .flat_map(|&i| triangles[i])
+            .filter(|&v| v != a && v != b)
+            .collect();
+        common.sort_unstable();
+        opposite.sort_unstable();
+        if common != opposite {
+            continue;
+        }
+        for &i in &on_edge {
+            alive[i] = false;
+        }
+        for i in ta {
+            if alive[i] {
+                for v in triangles[i].iter_mut() {
+                    if *v == a {
+                        *v = b;
+                    }
+                }
+                around[b as usize].push(i);
+            }
+        }
+    }
+    let collapsed = crate::surface::skin::kept(
+        &Mesh {
+            positions: m.positions.clone(),
+            normals: None,
+            triangles,
+        },
+        |i| alive[i],
+    );
+    if collapsed.triangles.is_empty() || collapsed.edge_faults() != (0, 0) {
+        return m;
+    }
+    collapsed
+}
+
+/// An edge of the closed skin shorter than this fraction of the model's
+/// size is collapsed ([`without_slivers`]): a micrometre on a 2 m body,
+/// far below any tessellation's edges.
+pub const SLIVER: Real = 5e-7;
 
 /// How far a solid piece's open end is closed out of its plane, as a
 /// fraction of the end's mean radius ([`crate::surface::skin::closed_piece`]): a
@@ -404,6 +510,42 @@ pub fn union_volume(solids: &[Mesh], cavities: &[Mesh], up: Vec3, spacing: Real)
 mod tests {
     use super::*;
     use crate::geom::shapes::cylinder;
+
+    /// A tetrahedron whose edge 0-1 carries a vertex a nanometre from
+    /// vertex 0: its two triangles on that edge are split into a
+    /// micro-triangle and a whole one each. The collapse gives the
+    /// tetrahedron back; without a short edge a mesh is returned as is.
+    #[test]
+    fn a_micro_edge_is_collapsed_and_the_skin_stays_closed() {
+        let p = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ];
+        let tetra = Mesh {
+            positions: p.to_vec(),
+            normals: None,
+            triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        };
+        assert_eq!(check_closed(&tetra).bad_edges, 0);
+        let mut split = tetra.clone();
+        split.positions.push(p[0] + (p[1] - p[0]) * 1e-9);
+        split.triangles = vec![
+            [0, 2, 4],
+            [4, 2, 1],
+            [0, 4, 3],
+            [4, 1, 3],
+            [0, 3, 2],
+            [1, 2, 3],
+        ];
+        assert_eq!(split.edge_faults(), (0, 0));
+        let mended = without_slivers(split.clone());
+        assert_eq!(mended.triangles.len(), 4);
+        assert_eq!(mended.edge_faults(), (0, 0));
+        assert!((mended.signed_volume() - tetra.signed_volume()).abs() < 1e-9);
+        assert_eq!(without_slivers(tetra.clone()), tetra);
+    }
 
     /// Two upright cylinders crossing side by side (no faces in one
     /// plane), and a third lying across both.

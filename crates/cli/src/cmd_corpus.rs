@@ -48,6 +48,10 @@ pub struct CorpusArgs {
     #[arg(long, default_value_t = ReconstructOptions::default().scan_frames,
           value_parser = crate::bounds::count_in(1usize, trigbody_core::MAX_SCAN_FRAMES))]
     pub scan_frames: usize,
+    /// As `reconstruct --prune`.
+    #[arg(long, default_value_t = ReconstructOptions::default().prune_tolerance,
+          value_parser = crate::bounds::real_in(0.0, 0.05))]
+    pub prune: f64,
     /// Samples on each surface for the distances.
     #[arg(long, default_value_t = 100_000)]
     pub samples: usize,
@@ -265,6 +269,7 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), 
     let mut options = ReconstructOptions {
         units: case.units,
         scan_frames: args.scan_frames,
+        prune_tolerance: args.prune,
         ..ReconstructOptions::default()
     };
     let shift = probe_motion(&case.name, args, case.units);

@@ -199,8 +199,9 @@ fn a_folder_without_a_manifest_is_a_usage_error() {
 }
 
 /// `--turn-deg` and `--shift-mm` move each input its own way and its model
-/// back: a mesh (built in its own frame) is judged exactly as given, and
-/// bad probe values are usage errors.
+/// back: a mesh (built in its own frame) is judged as given (the same
+/// parts, parameters and verdict; distances within the sampler's noise),
+/// and bad probe values are usage errors.
 #[test]
 fn a_turned_and_moved_mesh_is_judged_as_given() {
     let bad = |args: &[&str]| {
@@ -252,11 +253,29 @@ fn a_turned_and_moved_mesh_is_judged_as_given() {
     };
     let given = rms(&[]);
     let probed = rms(&["--turn-deg", "40", "--shift-mm", "300", "--seed", "7"]);
-    assert_eq!(given, probed);
+    same_row(&given, &probed);
     // The manifest's up axis turns with the input.
     let up = rms(&["--given-up"]);
     let up_probed = rms(&["--given-up", "--turn-deg", "40", "--seed", "7"]);
-    assert_eq!(up, up_probed);
+    same_row(&up, &up_probed);
+}
+
+/// Two corpus rows equal: words and counts exactly, numbers within the
+/// sampler's noise. A model turned and turned back differs from the
+/// other in its last bits; where that moves one skin triangle across the
+/// inside test, every later area sample moves, and the distances change
+/// in their fourth digit (body_033: 1.3819 against 1.3815 mm).
+fn same_row(a: &[String], b: &[String]) {
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(b) {
+        match (x.parse::<f64>(), y.parse::<f64>()) {
+            (Ok(p), Ok(q)) if x.contains('.') => assert!(
+                (p - q).abs() <= 2e-3 * p.abs().max(q.abs()) + 1e-4,
+                "{a:?}\n{b:?}"
+            ),
+            _ => assert_eq!(x, y, "{a:?}\n{b:?}"),
+        }
+    }
 }
 
 /// A raised-arm scan turned 30° (seed 6): a loop of the head's run held

@@ -122,10 +122,10 @@ fn a_parameter_budget_is_never_exceeded() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("within 50 design parameters"));
 }
 
-/// The built-in body's RMS jumps from 1.77 to 2.17 mm between coarseness
-/// 2.13 and 2.19, and mh_base's from 1.30 to 2.44 mm between 1.12 and
-/// 1.15: the second search (curve tolerances alone) finds a model in
-/// between.
+/// `--target-rms 2.0` on the built-in body and mh_base lands within
+/// 10 % below the target (1.97 and 1.98 mm; the search's stop is 5 %;
+/// where the RMS jumps across the target between two trials the second
+/// search, on the curve tolerances alone, finds a model in between).
 #[test]
 fn a_target_rms_is_met_within_ten_percent() {
     let stdout = reconstruct_ok(&["--target-rms", "2.0"]);
@@ -148,7 +148,9 @@ fn a_target_search_never_builds_a_wild_part() {
     let Some(path) = shared_file("corpus/body_008.ply", "the wild-part search") else {
         return;
     };
-    let stdout = reconstruct_ok(&[&path, "--units", "mm", "--target-rms", "2.0"]);
+    // Below the body's floor: the search runs to its finest trials, where
+    // the orders are highest.
+    let stdout = reconstruct_ok(&[&path, "--units", "mm", "--target-rms", "1.5"]);
     let line = stdout
         .lines()
         .find(|l| l.starts_with("rate search"))

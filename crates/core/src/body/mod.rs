@@ -193,6 +193,11 @@ pub struct ReconstructOptions {
     /// Sections are never added closer than this fraction of the height.
     /// Default 0.002.
     pub min_spacing: Real,
+    /// After the refinement, a section is dropped where the surface
+    /// skinned through the others passes its loop within this fraction of
+    /// the height beyond its own fit's error (the 90th percentile of the
+    /// loop's distances; `plan/prune.rs`); 0 keeps every section.
+    pub prune_tolerance: Real,
     /// Points sampled on each surface for the distances. Default 60 000.
     pub report_samples: usize,
     /// Tessellation edge length for the measured model surface, as a
@@ -234,6 +239,7 @@ impl Default for ReconstructOptions {
             refine_rounds: 3,
             refine_tolerance: 0.003,
             min_spacing: 0.002,
+            prune_tolerance: 0.0003,
             report_samples: 60_000,
             report_edge: 0.003,
             coverage_mm: 5.0,
@@ -435,6 +441,13 @@ fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
     pos("max_curve_offset", o.max_curve_offset)?;
     pos("coverage_mm", o.coverage_mm)?;
     pos("skin_depth", o.skin_depth)?;
+    if !(o.prune_tolerance.is_finite() && (0.0..=0.05).contains(&o.prune_tolerance)) {
+        return Err(ReconstructError::BadOption {
+            name: "prune_tolerance",
+            value: o.prune_tolerance,
+            why: "must be 0 (no pruning) to 0.05 of the height",
+        });
+    }
     if !(1..=MAX_SCAN_FRAMES).contains(&o.scan_frames) {
         return Err(ReconstructError::BadOption {
             name: "scan_frames",

@@ -3,19 +3,17 @@
 //! the outer skin by the [`Report`]) or for its size (design parameters),
 //! instead of the per-section tolerances.
 //!
-//! A first version over the pipeline's global knobs: one coarseness `c`
-//! scales them together, `E_a = c·E_a⁰`, `E_M = c·E_M⁰`, the section
-//! spacing (body and feet) by `√c` and the refinement tolerance by `c`
-//! (`c = 1` is the given options), and a bisection on `log c` (a
-//! reconstruction per trial) finds the coarsest model that meets the
-//! target RMS, or the finest within the parameter budget. Where the RMS
-//! jumps across a target between two trials (a section dropped or a
-//! transition left out as the spacing grows), a second bisection scales
-//! the curve tolerances alone, at the chosen coarseness, up to the
-//! coarsest trial's. Allocating
-//! parameters per part and per section where they lower the error most
-//! would do better at the same size; this search is what the global
-//! knobs can give.
+//! One coarseness `c` scales the pipeline's tolerances together:
+//! `E_a = c·E_a⁰`, `E_M = c·E_M⁰`, the pruning tolerance (a section goes
+//! where its neighbours' skinning passes its loop within it,
+//! `plan/prune.rs`) and the refinement tolerance by `c` (`c = 1` is the
+//! given options; the spacing stays, as the pruning takes out the sections
+//! the surface does not need). A bisection on `log c` (a reconstruction
+//! per trial) finds the coarsest model that meets the target RMS, or the
+//! finest within the parameter budget. Where the RMS jumps across a target
+//! between two trials (a section dropped or a transition left out), a
+//! second bisection scales the curve tolerances alone, at the chosen
+//! coarseness, up to the coarsest trial's.
 
 use crate::anatomy::BodyGeometry;
 use crate::body::{reconstruct, Body, ReconstructError, ReconstructOptions, Report};
@@ -97,13 +95,15 @@ pub enum RateError {
     BadGoal(String),
 }
 
+/// The largest pruning tolerance a coarseness gives (the option's bound).
+const MAX_PRUNE: Real = 0.05;
+
 /// The options at coarseness `c`.
 pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
     let mut o = *base;
     o.fit.ea = base.fit.ea * c;
     o.fit.em = base.fit.em * c;
-    o.spacing = base.spacing * c.sqrt();
-    o.foot_spacing = base.foot_spacing * c.sqrt();
+    o.prune_tolerance = (base.prune_tolerance * c).min(MAX_PRUNE);
     o.refine_tolerance = base.refine_tolerance * c;
     o
 }

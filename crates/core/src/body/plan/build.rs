@@ -775,7 +775,32 @@ pub(in crate::body) fn refine(
             warnings,
         )?;
     }
-    Ok(built)
+    let keep = keep_after_pruning(&cuts, &opts.part, opts.prune_tolerance * seg.height);
+    if keep.iter().all(|&k| k) {
+        return Ok(built);
+    }
+    let mut k = 0;
+    cuts.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    let plan = Plan {
+        name,
+        cuts,
+        start_cap,
+        end_cap,
+        tip,
+        tip_estimated,
+        shoulders,
+    };
+    Ok(build_part(
+        plan,
+        opts,
+        matches!(body, BodyGeometry::Cloud(_)),
+        None,
+        warnings,
+    )?
+    .0)
 }
 
 #[cfg(test)]

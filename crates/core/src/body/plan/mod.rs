@@ -9,9 +9,11 @@ use crate::section::mesh::point_in_polygon;
 mod build;
 mod crown;
 mod limbs;
+mod prune;
 pub(super) use build::*;
 pub(super) use crown::*;
 pub(super) use limbs::*;
+pub(super) use prune::*;
 
 /// One cut-and-fitted section.
 pub(super) struct Cut {

@@ -1,0 +1,355 @@
+//! Pruning (issue 17's allocation of numbers to where the surface needs
+//! them): a section the skinning of its neighbours reproduces is dropped.
+//!
+//! Removing section `k` changes the tangents at its two neighbours, so
+//! the three segments from the second neighbour before it to the second
+//! after it change, and nothing else. A trial rebuilds those segments
+//! from the kept sections around `k` (three each side, so the tangents
+//! of the segments' ends are the whole part's) and measures every section
+//! already dropped in that span and `k` itself against the new surface:
+//! the [`stray`] of its loop from the surface's curve at its place, less
+//! the stray from its own fitted curve (the fit's own error, a scan's
+//! noise). A section goes when that excess stays within the tolerance for
+//! all of them. Trials run over the cores; the lowest excesses are taken
+//! first (in steps of a 32nd of the tolerance, then along the part, so that
+//! a rounding does not change the choice), four kept sections apart (their spans do not overlap), and the
+//! rounds repeat until nothing more goes.
+
+use super::*;
+use crate::curve::trig::Frame;
+use crate::geom::parallel::parallel_map;
+use crate::surface::patch::Patch;
+
+/// Kept sections each side of a trial: enough for the changed segments'
+/// outer tangents to be the whole part's.
+const REACH: usize = 3;
+
+/// Which of `cuts` to keep: the first and last always, a torso loop
+/// clipped at an arm (where the arm's transition lands on the torso; the
+/// far area at the armpits grows without them), and every other one
+/// unless its removal (with the ones already removed) keeps every
+/// removed loop within `tol` of the surface beyond its own fit's stray.
+/// All kept for `tol ≤ 0`.
+pub(in crate::body) fn keep_after_pruning(
+    cuts: &[Cut],
+    options: &PartOptions,
+    tol: Real,
+) -> Vec<bool> {
+    let n = cuts.len();
+    let mut kept = vec![true; n];
+    if n < 3 || !(tol > 0.0) {
+        return kept;
+    }
+    let own: Vec<Real> = parallel_map(cuts, 8, |run| {
+        run.iter()
+            .map(|c| stray(c, &c.fit.curve.world_series()))
+            .collect()
+    });
+    let local = PartOptions {
+        start_cap: CapKind::Open,
+        end_cap: CapKind::Open,
+        ..*options
+    };
+    let trials = Trials {
+        cuts,
+        own: &own,
+        options: &local,
+    };
+    // A trial's excess, with the span of cuts it depends on: kept until
+    // a cut in that span is removed.
+    let mut known: Vec<Option<(Real, usize, usize)>> = vec![None; n];
+    loop {
+        let live: Vec<usize> = (0..n).filter(|&i| kept[i]).collect();
+        if live.len() < 3 {
+            break;
+        }
+        let candidates: Vec<usize> = (1..live.len() - 1)
+            .filter(|&k| cuts[live[k]].clips.is_empty())
+            .collect();
+        let fresh: Vec<usize> = candidates
+            .iter()
+            .copied()
+            .filter(|&k| known[live[k]].is_none())
+            .collect();
+        let found: Vec<Real> = parallel_map(&fresh, 4, |run| {
+            run.iter()
+                .map(|&k| trials.excess(&live, k, &kept))
+                .collect()
+        });
+        for (&k, e) in fresh.iter().zip(found) {
+            let span = (
+                live[k.saturating_sub(REACH)],
+                live[(k + REACH).min(live.len() - 1)],
+            );
+            known[live[k]] = Some((e, span.0, span.1));
+        }
+        let excess: Vec<Real> = candidates
+            .iter()
+            .map(|&k| known[live[k]].map_or(Real::INFINITY, |(e, ..)| e))
+            .collect();
+        let mut order: Vec<usize> = (0..candidates.len())
+            .filter(|&j| excess[j] <= tol)
+            .collect();
+        // Lowest excess first, in steps of a 32nd of the tolerance and then
+        // along the part: excesses a rounding apart (the same body turned)
+        // choose the same sections.
+        let step = |j: usize| (excess[j].max(0.0) * 32.0 / tol).floor() as u64;
+        order.sort_by_key(|&j| (step(j), j));
+        let mut taken: Vec<usize> = Vec::new();
+        for j in order {
+            let k = candidates[j];
+            if taken.iter().all(|&t| t.abs_diff(k) > REACH) {
+                taken.push(k);
+            }
+        }
+        if taken.is_empty() {
+            break;
+        }
+        for k in taken {
+            let r = live[k];
+            kept[r] = false;
+            for slot in known.iter_mut() {
+                if slot.is_some_and(|(_, lo, hi)| lo <= r && r <= hi) {
+                    *slot = None;
+                }
+            }
+        }
+    }
+    kept
+}
+
+/// Where on `patch` (its `u`) the curves' centre crosses the plane of
+/// `frame`, by bisection; `None` when it does not cross it.
+fn place(patch: &Patch, frame: &Frame) -> Option<Real> {
+    let normal = frame.normal();
+    let h = |u: Real| {
+        let c = patch.curve_at(u);
+        (Vec3::new(c.x.c[0], c.y.c[0], c.z.c[0]) - frame.origin).dot(normal)
+    };
+    let (mut a, mut b) = (0.0, 1.0);
+    let mut ha = h(a);
+    if !(ha * h(b) <= 0.0) {
+        return None;
+    }
+    for _ in 0..40 {
+        let m = 0.5 * (a + b);
+        let hm = h(m);
+        if ha * hm <= 0.0 {
+            b = m;
+        } else {
+            (a, ha) = (m, hm);
+        }
+    }
+    Some(0.5 * (a + b))
+}
+
+struct Trials<'a> {
+    cuts: &'a [Cut],
+    own: &'a [Real],
+    options: &'a PartOptions,
+}
+
+impl Trials<'_> {
+    /// The largest excess stray, over `live[k]` and the removed cuts in
+    /// the span its removal changes, of the surface without `live[k]`
+    /// (infinite where that surface cannot be built).
+    fn excess(&self, live: &[usize], k: usize, kept: &[bool]) -> Real {
+        let lo = k.saturating_sub(REACH);
+        let hi = (k + REACH).min(live.len() - 1);
+        let local: Vec<usize> = (lo..=hi).filter(|&m| m != k).map(|m| live[m]).collect();
+        let curves: Vec<TrigCurve> = local
+            .iter()
+            .map(|&i| self.cuts[i].fit.curve.clone())
+            .collect();
+        let Ok(part) = Part::new(curves, self.options) else {
+            return Real::INFINITY;
+        };
+        let segments = part.segments();
+        if segments.len() + 1 != local.len() {
+            return Real::INFINITY;
+        }
+        // The changed span: from the second kept section before to the
+        // second after.
+        let (from, to) = (live[k.saturating_sub(2)], live[(k + 2).min(live.len() - 1)]);
+        let mut worst: Real = 0.0;
+        for r in from + 1..to {
+            if kept[r] && r != live[k] {
+                continue;
+            }
+            let Some(m) = local.windows(2).position(|w| w[0] < r && r < w[1]) else {
+                return Real::INFINITY;
+            };
+            let Some(u) = place(&segments[m].patch, &self.cuts[r].fit.curve.frame) else {
+                return Real::INFINITY;
+            };
+            let d = stray(&self.cuts[r], &segments[m].patch.curve_at(u)) - self.own[r];
+            worst = worst.max(d);
+        }
+        worst
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::curve::fit::fit_loop_2d;
+    use crate::geom::math::Vec2;
+
+    /// Sections of the surface of revolution of `radius` about z at the
+    /// heights `zs` (64 points a loop,
+    /// each curve fitted nearly exactly, in its own plane z = const).
+    fn sections(zs: &[Real], radius: impl Fn(Real) -> Real) -> Vec<Cut> {
+        zs.iter()
+            .enumerate()
+            .map(|(k, &z)| {
+                let r = radius(z);
+                let pts: Vec<Vec2> = (0..64)
+                    .map(|i| {
+                        let t = std::f64::consts::TAU * i as Real / 64.0;
+                        Vec2::new(r * t.cos(), 0.7 * r * t.sin())
+                    })
+                    .collect();
+                let tight = FitOptions {
+                    ea: 1e-6,
+                    em: 1e-5,
+                    ..FitOptions::default()
+                };
+                let mut fit = fit_loop_2d(&pts, &tight).unwrap();
+                let f = fit.curve.frame;
+                let frame = Frame {
+                    origin: f.origin + Vec3::new(0.0, 0.0, z),
+                    ..f
+                };
+                fit.curve =
+                    TrigCurve::new(frame, fit.curve.a.clone(), fit.curve.b.clone()).unwrap();
+                Cut {
+                    at: k as Real / (zs.len() - 1) as Real,
+                    area: fit.curve.area().abs(),
+                    fit,
+                    clips: Vec::new(),
+                }
+            })
+            .collect()
+    }
+
+    fn heights(n: usize, length: Real) -> Vec<Real> {
+        (0..n)
+            .map(|k| length * k as Real / (n - 1) as Real)
+            .collect()
+    }
+
+    /// The 90th percentile of a removed loop's distances to the section of
+    /// the part built from the kept cuts by the loop's plane `z = const`
+    /// (found along every line `v = const` by bisection, 512 lines): an
+    /// independent measure of what the pruning promised.
+    fn worst_removed(cuts: &[Cut], keep: &[bool]) -> Real {
+        let kept: Vec<TrigCurve> = cuts
+            .iter()
+            .zip(keep)
+            .filter(|(_, &k)| k)
+            .map(|(c, _)| c.fit.curve.clone())
+            .collect();
+        let part = Part::new(kept, &PartOptions::default()).unwrap();
+        let mut worst: Real = 0.0;
+        for (c, _) in cuts.iter().zip(keep).filter(|(_, &k)| !k) {
+            let z = c.fit.curve.frame.origin.z;
+            // The segment between the kept sections around the plane.
+            let s = part
+                .segments()
+                .iter()
+                .find(|s| {
+                    let z0 = s.patch.curve_at(0.0).z.c[0];
+                    let z1 = s.patch.curve_at(1.0).z.c[0];
+                    (z0 - z) * (z1 - z) <= 0.0
+                })
+                .unwrap();
+            let section: Vec<Vec2> = (0..512)
+                .filter_map(|j| {
+                    let v = std::f64::consts::TAU * j as Real / 512.0;
+                    {
+                        let h = |u: Real| s.patch.point(u, v).z - z;
+                        let (mut a, mut b) = (0.0, 1.0);
+                        if h(a) * h(b) > 0.0 {
+                            return None;
+                        }
+                        for _ in 0..32 {
+                            let m = 0.5 * (a + b);
+                            if h(a) * h(m) <= 0.0 {
+                                b = m;
+                            } else {
+                                a = m;
+                            }
+                        }
+                        let p = s.patch.point(a, v);
+                        Some(Vec2::new(p.x, p.y))
+                    }
+                })
+                .collect();
+            assert_eq!(section.len(), 512);
+            let f = c.fit.curve.frame;
+            let mut d: Vec<Real> = c
+                .fit
+                .plane_points
+                .iter()
+                .map(|q| {
+                    let p = f.to_world(*q);
+                    let p = Vec2::new(p.x, p.y);
+                    (0..section.len())
+                        .map(|i| {
+                            let (a, b) = (section[i], section[(i + 1) % section.len()]);
+                            let t = ((p - a).dot(b - a) / (b - a).dot(b - a)).clamp(0.0, 1.0);
+                            (a + (b - a) * t - p).norm()
+                        })
+                        .fold(Real::INFINITY, Real::min)
+                })
+                .collect();
+            d.sort_by(Real::total_cmp);
+            worst = worst.max(d[d.len() * 9 / 10]);
+        }
+        worst
+    }
+
+    /// Circles along a straight axis loft to a cylinder whatever sections
+    /// are kept: everything between the ends goes.
+    #[test]
+    fn a_cylinder_keeps_only_its_ends() {
+        let cuts = sections(&heights(11, 0.5), |_| 0.1);
+        let keep = keep_after_pruning(&cuts, &PartOptions::default(), 1e-6);
+        assert_eq!(keep.iter().filter(|&&k| k).count(), 2, "{keep:?}");
+        assert!(keep[0] && keep[10]);
+        let w = worst_removed(&cuts, &keep);
+        // Only the fits' own error (E_M 1e-5 of a 0.1 radius).
+        assert!(w < 5e-6, "{w}");
+    }
+
+    /// A bulging surface keeps more sections at a tighter tolerance, and
+    /// every removed loop lies within the tolerance of the kept sections'
+    /// surface (measured in 3D on the rebuilt part).
+    #[test]
+    fn a_removed_loop_stays_within_the_tolerance() {
+        let cuts = sections(&heights(41, 0.6), |z| 0.1 + 0.03 * (8.0 * z).sin());
+        let mut last = cuts.len() + 1;
+        for tol in [2e-4, 5e-4, 2e-3] {
+            let keep = keep_after_pruning(&cuts, &PartOptions::default(), tol);
+            let n = keep.iter().filter(|&&k| k).count();
+            assert!(n < last, "tol {tol}: {n} kept, {last} before");
+            assert!(n >= 3, "tol {tol}: the bulges need sections ({n} kept)");
+            let worst = worst_removed(&cuts, &keep);
+            // Allowed beyond the tolerance: the sagitta of the 256-gon the
+            // pruning measures against (1e-5 on these loops).
+            assert!(
+                worst <= tol + 2e-5,
+                "tol {tol}: a removed loop is {worst} off"
+            );
+            last = n;
+        }
+    }
+
+    #[test]
+    fn nothing_goes_without_a_tolerance() {
+        let cuts = sections(&heights(6, 0.5), |_| 0.1);
+        assert!(keep_after_pruning(&cuts, &PartOptions::default(), 0.0)
+            .iter()
+            .all(|&k| k));
+    }
+}

@@ -170,8 +170,9 @@ fn table(r: &Report) -> String {
     let found: Vec<&str> = r.parts_found.iter().map(|p| part_file_name(*p)).collect();
     t.push_str(&format!("parts found: {}\n", found.join(", ")));
     t.push_str(&format!(
-        "design parameters {} vs 3 x {} input vertices = {} ({:.1} %)\n",
+        "design parameters {} ({} numbers in a .tbm file) vs 3 x {} input vertices = {} ({:.1} %)\n",
         r.design_parameters,
+        r.compact_numbers,
         r.input_vertices,
         3 * r.input_vertices,
         100.0 * r.parameter_ratio()

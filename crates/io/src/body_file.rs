@@ -216,6 +216,7 @@ pub fn report_part_names(report: &Report) -> Vec<String> {
 pub fn report_json(report: &Report) -> Value {
     json!({
         "design_parameters": report.design_parameters,
+        "compact_numbers": report.compact_numbers,
         "input_vertices": report.input_vertices,
         "polygon_parameters": 3 * report.input_vertices,
         "parameter_ratio": report.parameter_ratio(),

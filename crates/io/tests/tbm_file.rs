@@ -12,7 +12,12 @@ use trigbody_io::{read_mesh, ReadOptions};
 /// The built-in body's model (it is in the repository: no shared data
 /// needed), written compactly with the default options.
 fn built_in() -> &'static (Model, Vec<u8>, TbmStats) {
-    static MODEL: OnceLock<(Model, Vec<u8>, TbmStats)> = OnceLock::new();
+    &built_in_with_body().1
+}
+
+/// The built-in body, its model, the compact file and its statistics.
+fn built_in_with_body() -> &'static (trigbody_core::Body, (Model, Vec<u8>, TbmStats)) {
+    static MODEL: OnceLock<(trigbody_core::Body, (Model, Vec<u8>, TbmStats))> = OnceLock::new();
     MODEL.get_or_init(|| {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/bodies/mh_male.obj");
         let mesh = read_mesh(path, &ReadOptions::default()).unwrap();
@@ -20,8 +25,26 @@ fn built_in() -> &'static (Model, Vec<u8>, TbmStats) {
             reconstruct(BodyGeometry::Mesh(&mesh), &ReconstructOptions::default()).unwrap();
         let model = trigbody_io::body_file::model_of_body(&body);
         let (bytes, stats) = encode_tbm(&model, &TbmOptions::default()).unwrap();
-        (model, bytes, stats)
+        (body, (model, bytes, stats))
     })
+}
+
+/// The report's count of the compact file's numbers is the encoder's:
+/// the design parameters less the JSON's section numbers plus the `.tbm`'s.
+#[test]
+fn the_compact_count_is_what_the_encoder_stores() {
+    let (body, (model, _, stats)) = built_in_with_body();
+    let json_sections: usize = model
+        .parts
+        .iter()
+        .flat_map(|p| p.part.sections())
+        .map(|c| 9 + 2 * c.a.len())
+        .sum();
+    assert_eq!(
+        body.compact_numbers(),
+        body.design_parameters() - json_sections + stats.section_numbers
+    );
+    assert!(body.compact_numbers() < body.design_parameters());
 }
 
 /// The largest distance between corresponding section curve points of two

@@ -374,6 +374,23 @@ impl Body {
                 .sum::<usize>()
     }
 
+    /// The numbers the compact `.tbm` file stores for the same surfaces
+    /// (docs/model-format.md): each part's (and cavity's) first section
+    /// frame whole (9 numbers), every later one in 3 (its plane's tilt and
+    /// offset from the previous section's; the rotation and shift within
+    /// the plane go into the coefficients), the rest as counted by
+    /// [`Body::design_parameters`].
+    pub fn compact_numbers(&self) -> usize {
+        let later_frames: usize = self
+            .parts
+            .iter()
+            .map(|p| &p.part)
+            .chain(self.cavities.iter().map(|c| &c.part))
+            .map(|p| p.sections().len().saturating_sub(1))
+            .sum();
+        self.design_parameters() - 6 * later_frames
+    }
+
     /// The part of a name.
     pub fn part(&self, name: PartName) -> Option<&BodyPart> {
         self.parts.iter().find(|p| p.name == name)

@@ -50,6 +50,8 @@ impl DistanceMm {
 pub struct Report {
     /// The model's design parameters (method.md §7).
     pub design_parameters: usize,
+    /// The numbers its compact `.tbm` file stores ([`Body::compact_numbers`]).
+    pub compact_numbers: usize,
     /// The input's vertex (mesh) or point (cloud) count; the polygon
     /// baseline is `3 × input_vertices`.
     pub input_vertices: usize,
@@ -371,6 +373,7 @@ pub(super) fn measure_with(
     );
     Ok(Report {
         design_parameters: model.design_parameters(),
+        compact_numbers: model.compact_numbers(),
         input_vertices: input_count,
         distance_mm: DistanceMm {
             rms: ((a.rms * a.rms + b.rms * b.rms) / 2.0).sqrt(),

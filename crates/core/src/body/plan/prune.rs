@@ -24,7 +24,14 @@ use crate::surface::patch::Patch;
 /// outer tangents to be the whole part's.
 const REACH: usize = 3;
 
-/// Which of `cuts` to keep: the first and last always, a torso loop
+/// The sections at each end that set the part's end tangent (the
+/// parabola's through the first or last three curves), along which its
+/// cap or transition leaves it: they are never removed (a raised hand's
+/// dome, its end tangent turned by a removal, overshot the fingertips by
+/// 35 mm on body_010).
+const END_TANGENT: usize = 3;
+
+/// Which of `cuts` to keep: the three at each end always, a torso loop
 /// clipped at an arm (where the arm's transition lands on the torso; the
 /// far area at the armpits grows without them), and every other one
 /// unless its removal (with the ones already removed) keeps every
@@ -63,7 +70,7 @@ pub(in crate::body) fn keep_after_pruning(
         if live.len() < 3 {
             break;
         }
-        let candidates: Vec<usize> = (1..live.len() - 1)
+        let candidates: Vec<usize> = (END_TANGENT..live.len().saturating_sub(END_TANGENT))
             .filter(|&k| cuts[live[k]].clips.is_empty())
             .collect();
         let fresh: Vec<usize> = candidates
@@ -310,13 +317,14 @@ mod tests {
     }
 
     /// Circles along a straight axis loft to a cylinder whatever sections
-    /// are kept: everything between the ends goes.
+    /// are kept: everything goes but the three at each end (they set the
+    /// end tangents).
     #[test]
     fn a_cylinder_keeps_only_its_ends() {
-        let cuts = sections(&heights(11, 0.5), |_| 0.1);
+        let cuts = sections(&heights(21, 0.5), |_| 0.1);
         let keep = keep_after_pruning(&cuts, &PartOptions::default(), 1e-6);
-        assert_eq!(keep.iter().filter(|&&k| k).count(), 2, "{keep:?}");
-        assert!(keep[0] && keep[10]);
+        let kept: Vec<usize> = (0..21).filter(|&i| keep[i]).collect();
+        assert_eq!(kept, [0, 1, 2, 18, 19, 20], "{keep:?}");
         let w = worst_removed(&cuts, &keep);
         // Only the fits' own error (E_M 1e-5 of a 0.1 radius).
         assert!(w < 5e-6, "{w}");
@@ -332,8 +340,8 @@ mod tests {
         for tol in [2e-4, 5e-4, 2e-3] {
             let keep = keep_after_pruning(&cuts, &PartOptions::default(), tol);
             let n = keep.iter().filter(|&&k| k).count();
-            assert!(n < last, "tol {tol}: {n} kept, {last} before");
-            assert!(n >= 3, "tol {tol}: the bulges need sections ({n} kept)");
+            assert!(n <= last, "tol {tol}: {n} kept, {last} before");
+            assert!(n > 6, "tol {tol}: the bulges need sections ({n} kept)");
             let worst = worst_removed(&cuts, &keep);
             // Allowed beyond the tolerance: the sagitta of the 256-gon the
             // pruning measures against (1e-5 on these loops).
@@ -343,6 +351,7 @@ mod tests {
             );
             last = n;
         }
+        assert!(last < 20, "a coarse tolerance keeps {last} of 41");
     }
 
     #[test]

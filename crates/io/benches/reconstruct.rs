@@ -9,6 +9,10 @@
 //! the distances both ways; unlike inside `reconstruct` it also builds
 //! the input's distance structure), both from memory.
 //!
+//! The `rate` entry times a rate-distortion reconstruction of the mesh
+//! (`reconstruct --target-rms 2.0`: the search's trials, each a whole
+//! reconstruction with its report; issue 17's budget is 1 s).
+//!
 //! `cargo bench -p trigbody-io --bench reconstruct`
 //! (`cargo run --release -p trigbody-io --example reconstruct_timing`
 //! prints the time of every step).
@@ -17,6 +21,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::PathBuf;
 use trigbody_core::internals::body::measure;
+use trigbody_core::internals::body::rate::{reconstruct_for, Goal, RateOptions};
 use trigbody_core::{clean_cloud, reconstruct, CleanOptions, ReconstructOptions};
 use trigbody_core::{segment, BodyGeometry, SegmentOptions};
 use trigbody_core::{virtual_scan, ScannerOptions};
@@ -59,6 +64,19 @@ fn bench(c: &mut Criterion) {
         "built-in body virtual scan 200k, read PLY + reconstruct",
         |b| b.iter(|| run(&scan_path, &opts)),
     );
+    g.bench_function("rate: built-in body mesh, --target-rms 2.0", |b| {
+        b.iter(|| {
+            let out = reconstruct_for(
+                black_box(BodyGeometry::Mesh(&mesh)),
+                &opts,
+                Goal::TargetRms(2.0),
+                &RateOptions::default(),
+                |_| {},
+            )
+            .expect("a model");
+            out.report.design_parameters
+        })
+    });
     let so = SegmentOptions::default();
     g.bench_function("segment mesh", |b| {
         b.iter(|| segment(black_box(BodyGeometry::Mesh(&mesh)), &so).expect("mesh"))

@@ -13,7 +13,11 @@
 //! finest within the parameter budget. Where the RMS jumps across a target
 //! between two trials (a section dropped or a transition left out), a
 //! second bisection scales the curve tolerances alone, at the chosen
-//! coarseness, up to the coarsest trial's.
+//! coarseness, up to the coarsest trial's. Each trial's coarseness is where
+//! the line through the bracket's measured ends (log RMS or log parameters
+//! against log c) meets the target, or from one end along the usual slope
+//! (RMS about c^(1/3)): two or three reconstructions on the shared bodies
+//! where the bisection took four to seven.
 
 use crate::anatomy::BodyGeometry;
 use crate::body::{reconstruct, Body, ReconstructError, ReconstructOptions, Report};
@@ -108,6 +112,31 @@ pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
     o
 }
 
+/// The next trial's log coarseness inside the bracket `(lo, hi)`: where
+/// the line through the two ends' metrics (the log RMS or log parameters,
+/// when measured) reaches `aim`, or from one measured end along the usual
+/// `slope`, else the middle; kept a tenth of the bracket inside it, so
+/// that a curve the line misjudges still shrinks the bracket.
+fn next_trial(
+    (lo, lo_m): (Real, Option<Real>),
+    (hi, hi_m): (Real, Option<Real>),
+    aim: Real,
+    slope: Real,
+) -> Real {
+    let guess = match (lo_m, hi_m) {
+        (Some(a), Some(b)) if (b - a).abs() > 1e-9 => lo + (aim - a) * (hi - lo) / (b - a),
+        (Some(a), _) => lo + (aim - a) / slope,
+        (None, Some(b)) => hi + (aim - b) / slope,
+        (None, None) => Real::NAN,
+    };
+    let margin = 0.1 * (hi - lo);
+    if guess.is_finite() {
+        guess.clamp(lo + margin, hi - margin)
+    } else {
+        0.5 * (lo + hi)
+    }
+}
+
 /// The options at coarseness `c` with the curve tolerances further
 /// scaled by `f`.
 fn at(base: &ReconstructOptions, c: Real, f: Real) -> ReconstructOptions {
@@ -149,7 +178,20 @@ pub fn reconstruct_for(
     };
     let close_enough = |r: &Report| match goal {
         Goal::TargetRms(t) => r.distance_mm.rms >= (1.0 - options.rms_slack) * t,
-        Goal::MaxParameters(_) => false,
+        Goal::MaxParameters(n) => {
+            r.design_parameters as Real >= (1.0 - options.rms_slack) * n as Real
+        }
+    };
+    // The searched quantity on a log scale, the value aimed at (the middle
+    // of the accepted band) and its usual slope against log c (the
+    // built-in and shared bodies: RMS about c^(1/3), parameters c^-0.65).
+    let metric = |r: &Report| match goal {
+        Goal::TargetRms(_) => r.distance_mm.rms.ln(),
+        Goal::MaxParameters(_) => (r.design_parameters as Real).ln(),
+    };
+    let (aim, slope) = match goal {
+        Goal::TargetRms(t) => ((t * (1.0 - 0.5 * options.rms_slack)).ln(), 1.0 / 3.0),
+        Goal::MaxParameters(n) => ((n as Real * (1.0 - 0.5 * options.rms_slack)).ln(), -0.65),
     };
     let mut trials = Vec::new();
     let mut evaluate = |c: Real, f: Real| -> Evaluated {
@@ -194,13 +236,14 @@ pub fn reconstruct_for(
     // Feasibility holds on the fine side for a target RMS and on the coarse
     // side for a budget; bisect the bracket on log c.
     let fine_feasible = matches!(goal, Goal::TargetRms(_));
+    // The bracket on log c, with the metric where an end was measured.
     let (mut lo, mut hi) = (options.min_coarseness.ln(), options.max_coarseness.ln());
-    let start = keep(evaluate(1.0, 1.0), &mut best);
-    match start {
-        Some(true) if fine_feasible => lo = 0.0,
-        Some(false) if fine_feasible => hi = 0.0,
-        Some(true) => hi = 0.0,
-        Some(false) => lo = 0.0,
+    let (mut lo_m, mut hi_m): (Option<Real>, Option<Real>) = (None, None);
+    let first = evaluate(1.0, 1.0);
+    let m = first.1.as_ref().ok().map(|(_, r)| metric(r));
+    match keep(first, &mut best) {
+        Some(ok) if ok == fine_feasible => (lo, lo_m) = (0.0, m),
+        Some(_) => (hi, hi_m) = (0.0, m),
         None => {}
     }
     let done = |best: &Option<Kept>| best.as_ref().is_some_and(|(_, _, r)| close_enough(r));
@@ -208,17 +251,14 @@ pub fn reconstruct_for(
         if done(&best) {
             break;
         }
-        let mid = 0.5 * (lo + hi);
-        match keep(evaluate(mid.exp(), 1.0), &mut best) {
+        let mid = next_trial((lo, lo_m), (hi, hi_m), aim, slope);
+        let trial = evaluate(mid.exp(), 1.0);
+        let m = trial.1.as_ref().ok().map(|(_, r)| metric(r));
+        match keep(trial, &mut best) {
             // A failed reconstruction counts as too coarse.
-            None => hi = mid,
-            Some(ok) => {
-                if ok == fine_feasible {
-                    lo = mid;
-                } else {
-                    hi = mid;
-                }
-            }
+            None => (hi, hi_m) = (mid, None),
+            Some(ok) if ok == fine_feasible => (lo, lo_m) = (mid, m),
+            Some(_) => (hi, hi_m) = (mid, m),
         }
     }
     // A target the RMS jumps across: coarser curve tolerances alone, at
@@ -267,4 +307,27 @@ pub fn reconstruct_for(
         met,
         trials,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_next_trial_follows_the_measured_line_inside_the_bracket() {
+        // Both ends measured: the line through them reaches the aim at
+        // three quarters of the bracket.
+        let x = next_trial((0.0, Some(0.0)), (2.0, Some(1.0)), 0.75, 1.0 / 3.0);
+        assert!((x - 1.5).abs() < 1e-12, "{x}");
+        // One end measured: along the usual slope from it.
+        let x = next_trial((0.0, Some(0.0)), (3.0, None), 0.5, 1.0 / 3.0);
+        assert!((x - 1.5).abs() < 1e-12, "{x}");
+        let x = next_trial((-1.0, None), (0.0, Some(1.0)), 0.9, 1.0 / 3.0);
+        assert!((x + 0.3).abs() < 1e-12, "{x}");
+        // A guess beyond the bracket stays a tenth inside it; nothing
+        // measured: the middle.
+        let x = next_trial((0.0, Some(0.0)), (1.0, None), 5.0, 1.0 / 3.0);
+        assert!((x - 0.9).abs() < 1e-12, "{x}");
+        assert_eq!(next_trial((0.0, None), (1.0, None), 0.3, 1.0), 0.5);
+    }
 }

@@ -15,9 +15,12 @@ fn built_in() -> &'static (Model, Vec<u8>, TbmStats) {
     &built_in_with_body().1
 }
 
+/// A model, its compact file and the file's statistics.
+type Written = (Model, Vec<u8>, TbmStats);
+
 /// The built-in body, its model, the compact file and its statistics.
-fn built_in_with_body() -> &'static (trigbody_core::Body, (Model, Vec<u8>, TbmStats)) {
-    static MODEL: OnceLock<(trigbody_core::Body, (Model, Vec<u8>, TbmStats))> = OnceLock::new();
+fn built_in_with_body() -> &'static (trigbody_core::Body, Written) {
+    static MODEL: OnceLock<(trigbody_core::Body, Written)> = OnceLock::new();
     MODEL.get_or_init(|| {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/bodies/mh_male.obj");
         let mesh = read_mesh(path, &ReadOptions::default()).unwrap();

@@ -501,7 +501,16 @@ fn curve_points(curve: &crate::curve::trig::SpaceCurve, n: usize) -> Vec<Point3>
 /// the edge lies within `h` of `m`); the edges sorted by `m_x` limit the
 /// candidates to `|m_x − q_x| ≤ d + h_max` by binary search.
 pub(in crate::body) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) -> Real {
-    let f = &cut.fit.curve.frame;
+    stray_of(&cut.fit.curve.frame, &cut.fit.plane_points, curve)
+}
+
+/// [`stray`] of the points `points` of the plane of `f` (in its
+/// coordinates).
+pub(in crate::body) fn stray_of(
+    f: &crate::curve::trig::Frame,
+    points: &[crate::geom::math::Vec2],
+    curve: &crate::curve::trig::SpaceCurve,
+) -> Real {
     let n = 256;
     let poly: Vec<(Real, Real)> = curve_points(curve, n)
         .into_iter()
@@ -537,9 +546,9 @@ pub(in crate::body) fn stray(cut: &Cut, curve: &crate::curve::trig::SpaceCurve) 
     by_x.sort_by(|&a, &b| edges[a][5].total_cmp(&edges[b][5]));
     let xs: Vec<Real> = by_x.iter().map(|&i| edges[i][5]).collect();
     let h_max = edges.iter().map(|e| e[7]).fold(0.0, Real::max);
-    let mut all = Vec::with_capacity(cut.fit.plane_points.len());
+    let mut all = Vec::with_capacity(points.len());
     let mut near = 0;
-    for q in &cut.fit.plane_points {
+    for q in points {
         let mut best = dist(&edges[near], q.x, q.y);
         let window = (best + h_max) * (1.0 + ROUNDING_MARGIN);
         let lo = xs.partition_point(|&x| x < q.x - window);

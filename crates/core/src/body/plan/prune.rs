@@ -17,12 +17,16 @@
 
 use super::*;
 use crate::curve::trig::Frame;
+use crate::geom::math::Vec2;
 use crate::geom::parallel::parallel_map;
 use crate::surface::patch::Patch;
 
 /// Kept sections each side of a trial: enough for the changed segments'
 /// outer tangents to be the whole part's.
 const REACH: usize = 3;
+
+/// The most loop points a trial measures per loop.
+const POINTS: usize = 96;
 
 /// The sections at each end that set the part's end tangent (the
 /// parabola's through the first or last three curves), along which its
@@ -47,11 +51,22 @@ pub(in crate::body) fn keep_after_pruning(
     if n < 3 || !(tol > 0.0) {
         return kept;
     }
-    let own: Vec<Real> = parallel_map(cuts, 8, |run| {
-        run.iter()
-            .map(|c| stray(c, &c.fit.curve.world_series()))
-            .collect()
-    });
+    // Every loop's points, at most [`POINTS`] of them evenly by index: a
+    // percentile needs no more, and the trials measure many loops.
+    let points: Vec<Vec<Vec2>> = cuts
+        .iter()
+        .map(|c| {
+            let p = &c.fit.plane_points;
+            let step = p.len().div_ceil(POINTS).max(1);
+            p.iter().step_by(step).copied().collect()
+        })
+        .collect();
+    let own: Vec<Real> = (0..n)
+        .map(|i| {
+            let c = &cuts[i].fit.curve;
+            stray_of(&c.frame, &points[i], &c.world_series())
+        })
+        .collect();
     let local = PartOptions {
         start_cap: CapKind::Open,
         end_cap: CapKind::Open,
@@ -59,6 +74,7 @@ pub(in crate::body) fn keep_after_pruning(
     };
     let trials = Trials {
         cuts,
+        points: &points,
         own: &own,
         options: &local,
     };
@@ -129,10 +145,15 @@ pub(in crate::body) fn keep_after_pruning(
 /// `frame`, by bisection; `None` when it does not cross it.
 fn place(patch: &Patch, frame: &Frame) -> Option<Real> {
     let normal = frame.normal();
-    let h = |u: Real| {
-        let c = patch.curve_at(u);
-        (Vec3::new(c.x.c[0], c.y.c[0], c.z.c[0]) - frame.origin).dot(normal)
-    };
+    // The centre of the curve at `u`: the patch's coefficient functions'
+    // constant terms, a polynomial in `u`.
+    let c0: Vec<Real> = patch
+        .coefficients()
+        .iter()
+        .map(|f| Vec3::new(f.x.c[0], f.y.c[0], f.z.c[0]).dot(normal))
+        .collect();
+    let at = frame.origin.dot(normal);
+    let h = |u: Real| c0.iter().rev().fold(0.0, |acc, &c| acc * u + c) - at;
     let (mut a, mut b) = (0.0, 1.0);
     let mut ha = h(a);
     if !(ha * h(b) <= 0.0) {
@@ -152,6 +173,7 @@ fn place(patch: &Patch, frame: &Frame) -> Option<Real> {
 
 struct Trials<'a> {
     cuts: &'a [Cut],
+    points: &'a [Vec<Vec2>],
     own: &'a [Real],
     options: &'a PartOptions,
 }
@@ -189,7 +211,8 @@ impl Trials<'_> {
             let Some(u) = place(&segments[m].patch, &self.cuts[r].fit.curve.frame) else {
                 return Real::INFINITY;
             };
-            let d = stray(&self.cuts[r], &segments[m].patch.curve_at(u)) - self.own[r];
+            let frame = &self.cuts[r].fit.curve.frame;
+            let d = stray_of(frame, &self.points[r], &segments[m].patch.curve_at(u)) - self.own[r];
             worst = worst.max(d);
         }
         worst

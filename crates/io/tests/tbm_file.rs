@@ -32,20 +32,25 @@ fn built_in_with_body() -> &'static (trigbody_core::Body, Written) {
     })
 }
 
+/// The numbers a JSON model file stores for its sections: a frame (9)
+/// and the coefficients of each.
+fn json_section_numbers(model: &Model) -> usize {
+    model
+        .parts
+        .iter()
+        .flat_map(|p| p.part.sections())
+        .map(|c| 9 + 2 * c.a.len())
+        .sum()
+}
+
 /// The report's count of the compact file's numbers is the encoder's:
 /// the design parameters less the JSON's section numbers plus the `.tbm`'s.
 #[test]
 fn the_compact_count_is_what_the_encoder_stores() {
     let (body, (model, _, stats)) = built_in_with_body();
-    let json_sections: usize = model
-        .parts
-        .iter()
-        .flat_map(|p| p.part.sections())
-        .map(|c| 9 + 2 * c.a.len())
-        .sum();
     assert_eq!(
         body.compact_numbers(),
-        body.design_parameters() - json_sections + stats.section_numbers
+        body.design_parameters() - json_section_numbers(model) + stats.section_numbers
     );
     assert!(body.compact_numbers() < body.design_parameters());
 }
@@ -103,13 +108,7 @@ fn the_built_in_body_reads_back_within_the_bound() {
     }
     // Fewer numbers than the JSON file's design parameters, and a file a
     // small fraction of the JSON's size (407 KB).
-    let json_numbers: usize = model
-        .parts
-        .iter()
-        .flat_map(|p| p.part.sections())
-        .map(|c| 9 + 2 * c.a.len())
-        .sum();
-    assert!(stats.section_numbers < json_numbers);
+    assert!(stats.section_numbers < json_section_numbers(model));
     assert!(bytes.len() < 40_000, "{} bytes", bytes.len());
 }
 

@@ -112,6 +112,26 @@ pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
     o
 }
 
+/// The searched quantity on a log scale: the RMS for a target RMS, the
+/// parameters for a budget.
+fn metric(goal: Goal, r: &Report) -> Real {
+    match goal {
+        Goal::TargetRms(_) => r.distance_mm.rms.ln(),
+        Goal::MaxParameters(_) => (r.design_parameters as Real).ln(),
+    }
+}
+
+/// The [`metric`] aimed at (the middle of the accepted band) and its usual
+/// slope against log c (the built-in and shared bodies: RMS about
+/// c^(1/3), parameters c^-0.65).
+fn aim_and_slope(goal: Goal, options: &RateOptions) -> (Real, Real) {
+    let band = 1.0 - 0.5 * options.rms_slack;
+    match goal {
+        Goal::TargetRms(t) => ((t * band).ln(), 1.0 / 3.0),
+        Goal::MaxParameters(n) => ((n as Real * band).ln(), -0.65),
+    }
+}
+
 /// The next trial's log coarseness inside the bracket `(lo, hi)`: where
 /// the line through the two ends' metrics (the log RMS or log parameters,
 /// when measured) reaches `aim`, or from one measured end along the usual
@@ -182,17 +202,8 @@ pub fn reconstruct_for(
             r.design_parameters as Real >= (1.0 - options.rms_slack) * n as Real
         }
     };
-    // The searched quantity on a log scale, the value aimed at (the middle
-    // of the accepted band) and its usual slope against log c (the
-    // built-in and shared bodies: RMS about c^(1/3), parameters c^-0.65).
-    let metric = |r: &Report| match goal {
-        Goal::TargetRms(_) => r.distance_mm.rms.ln(),
-        Goal::MaxParameters(_) => (r.design_parameters as Real).ln(),
-    };
-    let (aim, slope) = match goal {
-        Goal::TargetRms(t) => ((t * (1.0 - 0.5 * options.rms_slack)).ln(), 1.0 / 3.0),
-        Goal::MaxParameters(n) => ((n as Real * (1.0 - 0.5 * options.rms_slack)).ln(), -0.65),
-    };
+    let metric = |r: &Report| metric(goal, r);
+    let (aim, slope) = aim_and_slope(goal, options);
     let mut trials = Vec::new();
     let mut evaluate = |c: Real, f: Real| -> Evaluated {
         let result = reconstruct(input, &at(base, c, f));

@@ -784,15 +784,6 @@ pub(in crate::body) fn refine(
             warnings,
         )?;
     }
-    let keep = keep_after_pruning(&cuts, &opts.part, opts.prune_tolerance * seg.height);
-    if keep.iter().all(|&k| k) {
-        return Ok(built);
-    }
-    let mut k = 0;
-    cuts.retain(|_| {
-        k += 1;
-        keep[k - 1]
-    });
     let plan = Plan {
         name,
         cuts,
@@ -802,14 +793,8 @@ pub(in crate::body) fn refine(
         tip_estimated,
         shoulders,
     };
-    Ok(build_part(
-        plan,
-        opts,
-        matches!(body, BodyGeometry::Cloud(_)),
-        None,
-        warnings,
-    )?
-    .0)
+    let scan = matches!(body, BodyGeometry::Cloud(_));
+    pruned(built, plan, opts, scan, seg.height, warnings)
 }
 
 #[cfg(test)]

@@ -141,6 +141,29 @@ pub(in crate::body) fn keep_after_pruning(
     kept
 }
 
+/// The part `built` from `plan`'s cuts, without those the pruning drops
+/// ([`keep_after_pruning`] at [`ReconstructOptions::prune_tolerance`] ×
+/// `height`): rebuilt from the rest, or `built` itself when none goes.
+pub(in crate::body) fn pruned(
+    built: BodyPart,
+    mut plan: Plan,
+    opts: &ReconstructOptions,
+    scan: bool,
+    height: Real,
+    warnings: &mut Vec<String>,
+) -> Result<BodyPart, ReconstructError> {
+    let keep = keep_after_pruning(&plan.cuts, &opts.part, opts.prune_tolerance * height);
+    if keep.iter().all(|&k| k) {
+        return Ok(built);
+    }
+    let mut k = 0;
+    plan.cuts.retain(|_| {
+        k += 1;
+        keep[k - 1]
+    });
+    Ok(build_part(plan, opts, scan, None, warnings)?.0)
+}
+
 /// Where on `patch` (its `u`) the curves' centre crosses the plane of
 /// `frame`, by bisection; `None` when it does not cross it.
 fn place(patch: &Patch, frame: &Frame) -> Option<Real> {

@@ -20,7 +20,8 @@ outer --edge 0.004*height`, the edge `reconstruct --mesh` uses) of the file
 read back (JSON, and the compact .tbm when the build writes it).
 
 Counted numbers: trigbody, the model's design parameters (the report's,
-docs/model-format.md); a mesh, 3 x its vertices (the issue's count,
+docs/model-format.md: 9 numbers per section frame) and the numbers its
+compact .tbm file stores (3 per frame after a part's first); a mesh, 3 x its vertices (the issue's count,
 connectivity not counted). Bytes: the model file (.json, .json.gz, .tbm); a
 mesh, its Draco encoding at quantization 8-14 bits (of the full mesh and of
 every QEM level). Output: results.json and table.md in --out, a plot PNG.
@@ -30,6 +31,7 @@ import argparse
 import gzip
 import json
 import os
+import re
 import shutil
 import struct
 import subprocess
@@ -40,17 +42,17 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 VENV = os.path.join(ROOT, "target", "compactness-venv")
 PYPI = ["numpy", "matplotlib", "fast_simplification", "DracoPy"]
 
-# trigbody settings: (spacing as a fraction of the height, E_a, E_M).
-TRIG_SETTINGS = [
-    (0.008, 0.005, 0.025),
-    (0.012, 0.005, 0.025),
-    (0.012, 0.01, 0.05),  # the defaults
-    (0.012, 0.02, 0.10),
-    (0.018, 0.02, 0.10),
-    (0.024, 0.02, 0.10),
-    (0.024, 0.04, 0.20),
-    (0.036, 0.04, 0.20),
-]
+# trigbody settings: the coarseness c of `reconstruct --target-rms` (E_a =
+# 0.01 c, E_M = 0.05 c, pruning tolerance 0.0003 c of the height; spacing
+# 0.012), c = 1 the defaults.
+TRIG_COARSENESS = [0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0]
+
+
+def trig_flags(c):
+    return ["--spacing", "0.012", "--ea", f"{0.01 * c:g}", "--em", f"{0.05 * c:g}",
+            "--prune", f"{0.0003 * c:g}"]
+
+
 # QEM: the share of the input's triangles kept.
 QEM_KEEP = [0.5, 0.35, 0.25, 0.18, 0.12, 0.08, 0.05, 0.035, 0.025]
 DRACO_BITS = [8, 9, 10, 11, 12, 14]
@@ -255,12 +257,12 @@ def is_tbm(path):
 def trig_points(tools, name, path, units, up, work):
     """One point per setting: parameters, file bytes and RMS of the model."""
     pts = []
-    for spacing, ea, em in TRIG_SETTINGS:
-        tag = f"s{spacing}_ea{ea}_em{em}"
+    for c in TRIG_COARSENESS:
+        tag = f"c{c:g}"
         model = os.path.join(work, f"trig_{tag}.json")
         report = os.path.join(work, f"trig_{tag}_report.json")
         args = ["reconstruct", path, "-o", model, "--report", report, "--force",
-                "--units", units, "--spacing", str(spacing), "--ea", str(ea), "--em", str(em)]
+                "--units", units] + trig_flags(c)
         if up:
             args += ["--up-axis", up]
         r = tools.run(args)
@@ -270,20 +272,28 @@ def trig_points(tools, name, path, units, up, work):
         with open(report) as fh:
             params = json.load(fh)["design_parameters"]
         with open(model) as fh:
-            height = json.load(fh)["body"]["height"]
+            doc = json.load(fh)
+        height = doc["body"]["height"]
+        # The JSON file's section numbers (frame 9 + coefficients), against
+        # the compact file's (frame 3): the rest of the count is the same.
+        json_sections = sum(9 + len(sec["a"]) + len(sec["b"])
+                            for part in doc["parts"] for sec in part["sections"])
         with open(model, "rb") as fh:
             gz = len(gzip.compress(fh.read(), 9))
-        point = {"setting": tag, "spacing": spacing, "ea": ea, "em": em, "parameters": params,
+        point = {"setting": tag, "coarseness": c, "parameters": params,
                  "json_bytes": os.path.getsize(model), "json_gz_bytes": gz}
         files = [("json", None, model)]
         for quantum in TBM_QUANTA_MM:
             tbm = os.path.join(work, f"trig_{tag}_{quantum}.tbm")
-            r = tools.run(["reconstruct", path, "-o", tbm, "--force", "--units", units,
-                           "--spacing", str(spacing), "--ea", str(ea), "--em", str(em)]
+            r = tools.run(["reconstruct", path, "-o", tbm, "--force", "--units", units]
+                          + trig_flags(c)
                           + (["--up-axis", up] if up else [])
                           + (["--quantum", str(quantum)] if quantum else []))
             if r.returncode == 0 and is_tbm(tbm):
                 files.append(("tbm", quantum, tbm))
+                m = re.search(r"(\d+) section numbers", r.stdout)
+                if quantum is None and m:
+                    point["compact_numbers"] = params - json_sections + int(m.group(1))
         for kind, quantum, f in files:
             skin = os.path.join(work, f"trig_{tag}_{kind}_skin.ply")
             r = tools.run(["mesh", f, "-o", skin, "--skin", "outer", "--force",
@@ -430,11 +440,12 @@ def summary(results, levels=(1.0, 1.5, 2.0)):
         row = {"input": res["name"]}
         for lv in levels:
             tp = cost_at(res["trig"], "parameters", lv)
+            tc = cost_at(res["trig"], "compact_numbers", lv)
             qp = cost_at(res["qem"], "parameters", lv)
             tb = cost_at([t for p in res["trig"] for t in p.get("tbm", [])], "bytes", lv)
             tj = cost_at(res["trig"], "json_gz_bytes", lv)
             db = cost_at(res["draco"], "bytes", lv)
-            row[lv] = (tp, qp, tb, tj, db)
+            row[lv] = (tp, tc, qp, tb, tj, db)
         rows.append(row)
     return rows
 
@@ -451,13 +462,14 @@ def table_md(rows, levels=(1.0, 1.5, 2.0)):
     out = []
     for lv in levels:
         out.append(f"\nAt symmetric RMS {lv:g} mm (— : no setting that accurate)\n")
-        out.append("| input | trigbody params | QEM params (3V) | ratio | .tbm bytes | .json.gz bytes "
+        out.append("| input | trigbody params | .tbm numbers | QEM params (3V) | ratio params "
+                   "| ratio .tbm numbers | .tbm bytes | .json.gz bytes "
                    "| Draco bytes (best of full/QEM) | .tbm / Draco |")
-        out.append("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
+        out.append("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
         for row in rows:
-            tp, qp, tb, tj, db = row[lv]
-            out.append(f"| {row['input']} | {fmt(tp)} | {fmt(qp)} | {ratio(tp, qp)} | {fmt(tb)} "
-                       f"| {fmt(tj)} | {fmt(db)} | {ratio(tb, db)} |")
+            tp, tc, qp, tb, tj, db = row[lv]
+            out.append(f"| {row['input']} | {fmt(tp)} | {fmt(tc)} | {fmt(qp)} | {ratio(tp, qp)} "
+                       f"| {ratio(tc, qp)} | {fmt(tb)} | {fmt(tj)} | {fmt(db)} | {ratio(tb, db)} |")
     return "\n".join(out) + "\n"
 
 
@@ -473,7 +485,11 @@ def plot(results, path):
         ax = axes[0][k]
         t = sorted(res["trig"], key=lambda p: p["rms_mm"])
         q = sorted(res["qem"], key=lambda p: p["rms_mm"])
-        ax.plot([p["rms_mm"] for p in t], [p["parameters"] for p in t], "o-", label="trigbody")
+        ax.plot([p["rms_mm"] for p in t], [p["parameters"] for p in t], "o-",
+                label="trigbody (design parameters)")
+        tc = [p for p in t if "compact_numbers" in p]
+        ax.plot([p["rms_mm"] for p in tc], [p["compact_numbers"] for p in tc], "^--",
+                label="trigbody (.tbm numbers)")
         ax.plot([p["rms_mm"] for p in q], [p["parameters"] for p in q], "s-", label="QEM (3 x V)")
         ax.set_title(res["name"], fontsize=10)
         ax.set_xlim(0.2, 10)

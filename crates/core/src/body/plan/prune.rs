@@ -11,9 +11,11 @@
 //! the stray from its own fitted curve (the fit's own error, a scan's
 //! noise). A section goes when that excess stays within the tolerance for
 //! all of them. Trials run over the cores; the lowest excesses are taken
-//! first (in steps of a 32nd of the tolerance, then along the part, so that
-//! a rounding does not change the choice), four kept sections apart (their spans do not overlap), and the
-//! rounds repeat until nothing more goes.
+//! first (in steps of a 32nd of the tolerance, then along the part, so
+//! that a rounding does not change the choice), four kept sections apart
+//! (their spans do not overlap), and the rounds repeat until nothing more
+//! goes. The three sections at each end and the torso loops clipped at an
+//! arm are never removed ([`keep_after_pruning`]).
 
 use super::*;
 use crate::curve::trig::Frame;

@@ -122,6 +122,7 @@ struct Options {
     spacing: Option<Real>,
     ea: Option<Real>,
     em: Option<Real>,
+    prune: Option<Real>,
     scan_frames: Option<usize>,
 }
 
@@ -146,6 +147,7 @@ impl Options {
         o.spacing = self.spacing.unwrap_or(o.spacing);
         o.fit.ea = self.ea.unwrap_or(o.fit.ea);
         o.fit.em = self.em.unwrap_or(o.fit.em);
+        o.prune_tolerance = self.prune.unwrap_or(o.prune_tolerance);
         o.scan_frames = self.scan_frames.unwrap_or(o.scan_frames);
         o.segment.up = direction("up", self.up)?;
         o.segment.front = direction("front", self.front)?;

@@ -154,6 +154,17 @@ def test_reconstruct_bad_options():
         trigbody.reconstruct(v, f, up=(0, 0, 0))
     with pytest.raises(ValueError, match="scan_frames"):
         trigbody.reconstruct(v, f, scan_frames=0)
+    with pytest.raises(ValueError, match="prune_tolerance"):
+        trigbody.reconstruct(v, f, prune=-1.0)
+
+
+def test_reconstruct_without_pruning_keeps_every_section(py_result):
+    v, f, _ = trigbody.read_geometry(BODY)
+    model, report = trigbody.reconstruct(v, f, prune=0.0)
+    pruned = py_result[1]
+    assert report["design_parameters"] > 1.2 * pruned["design_parameters"]
+    assert report["compact_numbers"] < report["design_parameters"]
+    assert pruned["distance_mm"]["rms"] < 1.1 * report["distance_mm"]["rms"]
 
 
 def test_no_body_is_the_cli_message(tmp_path):

@@ -161,6 +161,7 @@ def reconstruct(
     spacing: Optional[float] = None,
     ea: Optional[float] = None,
     em: Optional[float] = None,
+    prune: Optional[float] = None,
     scan_frames: Optional[int] = None,
 ) -> Tuple[Model, Report]:
     """Reconstructs a body model from a mesh (``faces`` given) or a scan.
@@ -169,7 +170,9 @@ def reconstruct(
     vertex indices, or None for a point cloud; ``normals`` (N, 3) or None;
     ``up`` and ``front`` an axis name ("y", "-z", ...) or three numbers
     (default: found from the data); ``spacing`` (fraction of the height),
-    ``ea``, ``em`` and ``scan_frames`` (a scan is reconstructed in that
+    ``ea``, ``em``, ``prune`` (a section goes where the others' skinning
+    passes its loop within this fraction of the height; 0 keeps every
+    section) and ``scan_frames`` (a scan is reconstructed in that
     many frames turned about its up axis, 1-6, and the model nearest it
     kept) as ``trigbody reconstruct`` (None: its defaults).
     Returns the model and its report, the same as ``trigbody reconstruct
@@ -184,6 +187,7 @@ def reconstruct(
         "spacing": spacing,
         "ea": ea,
         "em": em,
+        "prune": prune,
         "scan_frames": scan_frames,
     }
     model, report, seconds = _trigbody.reconstruct(v, f, n, options)

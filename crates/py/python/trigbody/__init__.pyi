@@ -36,6 +36,7 @@ def reconstruct(
     spacing: Optional[float] = None,
     ea: Optional[float] = None,
     em: Optional[float] = None,
+    prune: Optional[float] = None,
     scan_frames: Optional[int] = None,
 ) -> Tuple[Model, Report]: ...
 def reconstruct_file(path: _Path, **options: Any) -> Tuple[Model, Report]: ...

@@ -267,6 +267,12 @@ pub(super) fn torso_without_arms(
             if let Some((p0, t)) = axis.point_and_tangent(shoulders.start_of(arm)) {
                 let t0 = coronal_outward(seg, arm, t);
                 let origin = p0 + t0 * (SHOULDER_OVERLAP * seg.height);
+                // A plane that leaves nothing of the loop does not part an
+                // arm from the trunk (an arm whose first section faces
+                // the front): the loop stays whole beside that arm.
+                let Some(kept) = out.clipped(origin, t0) else {
+                    continue;
+                };
                 if out.points.iter().any(|&p| (p - origin).dot(t0) > 0.0) {
                     clips.push(Clip {
                         origin,
@@ -277,7 +283,7 @@ pub(super) fn torso_without_arms(
                         radius: shoulders.radius_of(arm).min(1.5 * r),
                     });
                 }
-                out = out.clipped(origin, t0)?;
+                out = kept;
             }
         }
     }

@@ -196,7 +196,9 @@ pub struct ReconstructOptions {
     /// After the refinement, a section is dropped where the surface
     /// skinned through the others passes its loop within this fraction of
     /// the height beyond its own fit's error (the 90th percentile of the
-    /// loop's distances; `plan/prune.rs`); 0 keeps every section.
+    /// loop's distances; `plan/prune.rs`); 0 keeps every section. Default
+    /// 0.0003 (0.5 mm on 1.73 m: about 30 % fewer parameters for 0.01 mm
+    /// more RMS on the corpus).
     pub prune_tolerance: Real,
     /// Points sampled on each surface for the distances. Default 60 000.
     pub report_samples: usize,

@@ -8,16 +8,17 @@
 //! where its neighbours' skinning passes its loop within it,
 //! `plan/prune.rs`) and the refinement tolerance by `c` (`c = 1` is the
 //! given options; the spacing stays, as the pruning takes out the sections
-//! the surface does not need). A bisection on `log c` (a reconstruction
-//! per trial) finds the coarsest model that meets the target RMS, or the
-//! finest within the parameter budget. Where the RMS jumps across a target
-//! between two trials (a section dropped or a transition left out), a
-//! second bisection scales the curve tolerances alone, at the chosen
-//! coarseness, up to the coarsest trial's. Each trial's coarseness is where
-//! the line through the bracket's measured ends (log RMS or log parameters
-//! against log c) meets the target, or from one end along the usual slope
-//! (RMS about c^(1/3)): two or three reconstructions on the shared bodies
-//! where the bisection took four to seven.
+//! the surface does not need). A search on `log c` (a reconstruction per
+//! trial) finds the coarsest model that meets the target RMS, or the
+//! finest within the parameter budget, shrinking a bracket: each trial's
+//! coarseness is where the line through the bracket's measured ends (log
+//! RMS or log parameters against log c) meets the target, or from one end
+//! along the usual slope (RMS about c^(1/3)), two or three
+//! reconstructions on the shared bodies where a bisection took four to
+//! seven. Where the RMS jumps across a target between two trials (a
+//! section dropped or a transition left out), a second bisection scales
+//! the curve tolerances alone, at the chosen coarseness, up to the
+//! coarsest trial's.
 
 use crate::anatomy::BodyGeometry;
 use crate::body::{reconstruct, Body, ReconstructError, ReconstructOptions, Report};
@@ -43,8 +44,9 @@ pub struct RateOptions {
     pub max_coarseness: Real,
     /// Bisection steps after the bracket. Default 6.
     pub steps: usize,
-    /// A target RMS is met closely enough (the search stops) when the
-    /// model's RMS lies within this fraction below it. Default 0.05.
+    /// A goal is met closely enough (the search stops) when the model's
+    /// RMS, or its parameters for a budget, lie within this fraction below
+    /// it. Default 0.05.
     pub rms_slack: Real,
 }
 

@@ -432,6 +432,10 @@ impl SpaceCurve {
     pub fn point(&self, v: Real) -> Point3 {
         Vec3::new(self.x.eval(v), self.y.eval(v), self.z.eval(v))
     }
+    /// The mean of the curve's points over a period: its constant terms.
+    pub fn mean_point(&self) -> Point3 {
+        Vec3::new(self.x.c[0], self.y.c[0], self.z.c[0])
+    }
     /// The `k`-th derivative at `v`.
     pub fn derivative(&self, v: Real, k: u32) -> Vec3 {
         Vec3::new(

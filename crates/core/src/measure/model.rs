@@ -399,7 +399,7 @@ fn girth_in_plane(
     name: &'static str,
     opts: &ModelMeasureOptions,
 ) -> Result<Girth, MeasureError> {
-    let origin = centre(part, s0);
+    let origin = part.centre(s0);
     let plane = Plane::new(origin, normal)?;
     let points = exact_section(part, &plane, s0, opts.section_samples, 1e-10 * h)
         .ok_or(MeasureError::EmptySection { measurement: name })?;
@@ -455,7 +455,7 @@ fn limb_axis(part: &Part, s: Real, w: Real, lo: Real, hi: Real) -> Option<Vec3> 
     } else {
         (a, b)
     };
-    (centre(part, b) - centre(part, a)).normalized()
+    (part.centre(b) - part.centre(a)).normalized()
 }
 
 fn check(opts: &ModelMeasureOptions) -> Result<(), MeasureError> {
@@ -573,7 +573,7 @@ impl<'a> Levels<'a> {
     ) -> Levels<'a> {
         let up = body.frame.up;
         let level = |p: Point3| p.dot(up);
-        let first_level = |p: &Part| level(mean_point(&p.curves()[0].world_series()));
+        let first_level = |p: &Part| level(p.curves()[0].world_series().mean_point());
         let torso_bottom = first_level(torso);
         let leg_tops: Vec<Real> = [PartName::LeftLeg, PartName::RightLeg]
             .iter()
@@ -606,7 +606,7 @@ impl<'a> Levels<'a> {
             low,
             h,
             torso_bottom,
-            torso_top: level(centre(torso, torso.length())),
+            torso_top: level(torso.centre(torso.length())),
             crotch,
             armpit,
         }
@@ -614,7 +614,7 @@ impl<'a> Levels<'a> {
 
     /// The level of `p`'s first section's mean point.
     fn first_level(&self, p: &Part) -> Real {
-        mean_point(&p.curves()[0].world_series()).dot(self.up)
+        p.curves()[0].world_series().mean_point().dot(self.up)
     }
 
     /// Every measurement, in the report's order, and the warnings.
@@ -670,10 +670,10 @@ impl<'a> Levels<'a> {
     /// A horizontal level on the trunk: the torso, or the head above it.
     fn trunk(&self, lv: Real) -> Option<(&'a Part, Real)> {
         if lv <= self.torso_top {
-            s_at_level(self.torso, self.up, lv).map(|s| (self.torso, s))
+            self.torso.s_at_level(self.up, lv).map(|s| (self.torso, s))
         } else {
             self.head
-                .and_then(|hd| s_at_level(hd, self.up, lv).map(|s| (hd, s)))
+                .and_then(|hd| hd.s_at_level(self.up, lv).map(|s| (hd, s)))
         }
     }
 
@@ -754,10 +754,11 @@ impl<'a> Levels<'a> {
         let (h, n, up) = (self.h, self.opts.search_levels, self.up);
         let w = self.opts.axis_window * h;
         let floor = self.low;
-        let ankle_lo = s_at_level(lg, up, floor + 0.15 * h);
-        let ankle_hi = s_at_level(lg, up, floor + 0.035 * h);
-        let top =
-            s_at_level(lg, up, self.crotch - self.opts.leg_start_below_crotch * h).unwrap_or(0.0);
+        let ankle_lo = lg.s_at_level(up, floor + 0.15 * h);
+        let ankle_hi = lg.s_at_level(up, floor + 0.035 * h);
+        let top = lg
+            .s_at_level(up, self.crotch - self.opts.leg_start_below_crotch * h)
+            .unwrap_or(0.0);
         let radius = |s: Real| {
             let ax = limb_axis(lg, s, w, 0.0, lg.length())?;
             Some(equivalent_radius(&curve_at(lg, s), ax))
@@ -871,7 +872,7 @@ impl<'a> Levels<'a> {
             (Some(l), Some(r)) => m.push(Measurement {
                 name: "shoulder breadth",
                 kind: MeasurementKind::Breadth,
-                value: centre(&l.part, 0.0).distance(centre(&r.part, 0.0)),
+                value: l.part.centre(0.0).distance(r.part.centre(0.0)),
                 iso: Some("biacromial breadth"),
                 definition: "straight distance between the centres of the two arms' first sections (the shoulder cuts)",
                 girth: None,
@@ -1119,7 +1120,7 @@ mod tests {
         let body = cylinder_body(r, len);
         let part = &body.parts[0].part;
         let opts = ModelMeasureOptions::default();
-        let s = s_at_level(part, Vec3::Y, 0.4).unwrap();
+        let s = part.s_at_level(Vec3::Y, 0.4).unwrap();
         let g = girth_in_plane(part, s, Vec3::Y, Vec3::Z, len, "waist", &opts).unwrap();
         assert!((g.perimeter - TAU * r).abs() < 1e-9, "{}", g.perimeter);
         assert!((g.tape / (TAU * r) - 1.0).abs() < 3e-5, "{}", g.tape);

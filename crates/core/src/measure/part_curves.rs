@@ -9,10 +9,6 @@ use crate::surface::part::Part;
 use crate::surface::patch::Patch;
 use std::f64::consts::{PI, TAU};
 
-pub(super) fn mean_point(c: &SpaceCurve) -> Point3 {
-    Vec3::new(c.x.c[0], c.y.c[0], c.z.c[0])
-}
-
 /// The vector area `A⃗ = ½ ∮ C × C' dv` of a closed trigonometric curve
 /// `C = c₀ + Σ_j (a_j cos jv + b_j sin jv)`: harmonics `j ≠ k` integrate to
 /// zero against each other and `c₀` against `C'`, and
@@ -32,8 +28,7 @@ pub(super) fn vector_area(c: &SpaceCurve) -> Vec3 {
 
 /// The mean point of a patch's curve at `u = 0` (its `f_0`'s).
 pub(super) fn start_mean(patch: &Patch) -> Point3 {
-    let f = &patch.coefficients()[0];
-    Vec3::new(f.x.c[0], f.y.c[0], f.z.c[0])
+    patch.coefficients()[0].mean_point()
 }
 
 /// The mean point and vector area ([`vector_area`]) of a patch's curve at
@@ -89,19 +84,6 @@ pub(super) fn iso_curve(patch: &Patch, u: Real, k: usize, order: usize) -> Space
     }
 }
 
-/// The centre (mean point) of the part's curve at `s`: `Σ_m f_m,0 u^m`
-/// (no series built).
-pub(super) fn centre(part: &Part, s: Real) -> Point3 {
-    let (i, u) = part.locate(s);
-    let mut acc = Vec3::ZERO;
-    let mut um = 1.0;
-    for f in part.segments()[i].patch.coefficients() {
-        acc += mean_point(f) * um;
-        um *= u;
-    }
-    acc
-}
-
 /// The highest harmonic with a non-zero coefficient in any of the patch's
 /// coefficient functions (patches are padded to their part's order).
 pub(super) fn effective_order(patch: &Patch) -> usize {
@@ -117,50 +99,6 @@ pub(super) fn effective_order(patch: &Patch) -> usize {
         }
     }
     order
-}
-
-/// The `s` where the centre line's height along `dir` is `level`, by the
-/// Illinois variant of regula falsi (the centre line of a horizontally cut
-/// part is monotone in height; converges superlinearly, to 1e-12 of the
-/// part's length). `None` when the level is outside the part.
-pub(super) fn s_at_level(part: &Part, dir: Vec3, level: Real) -> Option<Real> {
-    let l = part.length();
-    let h = |s: Real| centre(part, s).dot(dir) - level;
-    let (mut a, mut b) = (0.0, l);
-    let (mut fa, mut fb) = (h(a), h(b));
-    if fa * fb > 0.0 || !(fa.is_finite() && fb.is_finite()) {
-        return None;
-    }
-    let mut side = 0;
-    for _ in 0..60 {
-        if fa == fb {
-            break;
-        }
-        let c = (a * fb - b * fa) / (fb - fa);
-        let fc = h(c);
-        if fc == 0.0 || (b - a).abs() <= 1e-12 * l {
-            return Some(c);
-        }
-        if (fc > 0.0) == (fb > 0.0) {
-            b = c;
-            fb = fc;
-            if side == -1 {
-                fa *= 0.5;
-            }
-            side = -1;
-        } else {
-            a = c;
-            fa = fc;
-            if side == 1 {
-                fb *= 0.5;
-            }
-            side = 1;
-        }
-        if fc.abs() <= 1e-13 * l {
-            return Some(c);
-        }
-    }
-    Some(0.5 * (a + b))
 }
 
 /// `n` samples of a space curve (one harmonic table per sample for all
@@ -196,7 +134,7 @@ pub(super) fn area_true_outline(
     e2: Vec3,
 ) -> Vec<Vec2> {
     let plane = |p: &Point3| Vec2::new((*p - o).dot(e1), (*p - o).dot(e2));
-    let m = plane(&mean_point(c));
+    let m = plane(&c.mean_point());
     let pts: Vec<Vec2> = samples.iter().map(plane).collect();
     let n = pts.len();
     let poly: Real = (0..n)

@@ -288,9 +288,9 @@ pub(super) fn transition_integrals(
     ext: &mut (Real, Real),
 ) -> (Real, Real) {
     let (c0, c1) = (patch.curve_at(0.0), patch.curve_at(1.0));
-    let q = mean_point(&c0);
+    let q = c0.mean_point();
     let (flux, area) = patch_integrals(patch, tables, &GL6, q, up, ext);
-    let disc = |c: &SpaceCurve| (mean_point(c) - q).dot(vector_area(c));
+    let disc = |c: &SpaceCurve| (c.mean_point() - q).dot(vector_area(c));
     let ends = disc(&c1) - disc(&c0);
     (((flux + ends) / 3.0).abs(), area)
 }
@@ -321,7 +321,7 @@ impl LevelTable {
         let outlines = (0..n)
             .map(|i| {
                 let lv = lo + step * i as Real;
-                s_at_level(torso, up, lv).map_or(Vec::new(), |s| {
+                torso.s_at_level(up, lv).map_or(Vec::new(), |s| {
                     let c = curve_at(torso, s);
                     area_true_outline(&c, &sample(&c, 32), Vec3::ZERO, front, left)
                 })
@@ -381,11 +381,11 @@ fn arm_torso_overlap(
         let c = curve_at(arm, s);
         let (i, u) = arm.locate(s);
         let d = arm.segments()[i].patch.u_derivative_curve(u, 1);
-        let Some(axis) = mean_point(&d).normalized() else {
+        let Some(axis) = d.mean_point().normalized() else {
             continue;
         };
         let (e1, e2) = plane_axes(axis, front);
-        let centre = mean_point(&c);
+        let centre = c.mean_point();
         let pts = sample(&c, 32);
         for p in &pts {
             lo = lo.min(p.dot(up));
@@ -498,7 +498,7 @@ fn torso_beyond_side(
     let mut volume = 0.0;
     for k in 0..steps {
         let lv = lo + (k as Real + 0.5) * dz;
-        let Some(s) = s_at_level(torso, up, lv) else {
+        let Some(s) = torso.s_at_level(up, lv) else {
             continue;
         };
         let curve = curve_at(torso, s);
@@ -543,7 +543,7 @@ fn clipped_area(poly: &[Vec2], n: Vec2, c: Real) -> Real {
 /// [`area_where`] for a band of heights.
 fn near_levels(part: &Part, up: Vec3, lo: Real, hi: Real) -> impl Fn(Real, Real) -> bool + '_ {
     move |s0, s1| {
-        let (a, b) = (centre(part, s0).dot(up), centre(part, s1).dot(up));
+        let (a, b) = (part.centre(s0).dot(up), part.centre(s1).dot(up));
         a.max(b) >= lo && a.min(b) <= hi
     }
 }

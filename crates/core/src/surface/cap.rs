@@ -155,10 +155,9 @@ fn constant_curve(p: Point3, order: usize) -> SpaceCurve {
 /// The centre of the end curve: its area centroid, or the mean point when it
 /// encloses no area.
 fn centre(curve: &TrigCurve) -> Point3 {
-    let w = curve.world_series();
     curve
         .area_centroid()
-        .unwrap_or_else(|| Vec3::new(w.x.c[0], w.y.c[0], w.z.c[0]))
+        .unwrap_or_else(|| curve.world_series().mean_point())
 }
 
 /// The flat cap `t(u, v) = (1-u) C(v) + u g` of `curve`.
@@ -240,9 +239,7 @@ pub fn dome_cap(
         fullness,
         axis,
     };
-    let mean = Vec3::new(tangent.x.c[0], tangent.y.c[0], tangent.z.c[0])
-        .normalized()
-        .ok_or(CapError::NoAxis)?;
+    let mean = tangent.mean_point().normalized().ok_or(CapError::NoAxis)?;
     let axis = match axis {
         DomeAxis::Tangent => mean,
         DomeAxis::Normal => {

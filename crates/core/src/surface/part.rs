@@ -208,10 +208,6 @@ pub struct Part {
     clockwise: bool,
 }
 
-fn mean_point(c: &SpaceCurve) -> Point3 {
-    Vec3::new(c.x.c[0], c.y.c[0], c.z.c[0])
-}
-
 fn scaled(c: &SpaceCurve, f: Real) -> SpaceCurve {
     let s = |x: &crate::curve::series::Series| crate::curve::series::Series {
         c: x.c.iter().map(|a| a * f).collect(),
@@ -399,7 +395,7 @@ impl Part {
                 .map_err(|source| PartError::Curve { index, source })?;
         }
         let world: Vec<SpaceCurve> = curves.iter().map(TrigCurve::world_series).collect();
-        let centres: Vec<Point3> = world.iter().map(mean_point).collect();
+        let centres: Vec<Point3> = world.iter().map(SpaceCurve::mean_point).collect();
         let scale = centres.iter().map(|c| c.norm()).fold(0.0, Real::max).max(
             curves
                 .iter()
@@ -583,6 +579,64 @@ impl Part {
     /// The total parameter length (the axis length through the centres).
     pub fn length(&self) -> Real {
         self.knots[self.knots.len() - 1]
+    }
+
+    /// The centre (mean point) of the part's curve at `s`: `Σ_m f_m,0 u^m`
+    /// (no series built).
+    pub fn centre(&self, s: Real) -> Point3 {
+        let (i, u) = self.locate(s);
+        let mut acc = Vec3::ZERO;
+        let mut um = 1.0;
+        for f in self.segments[i].patch.coefficients() {
+            acc += f.mean_point() * um;
+            um *= u;
+        }
+        acc
+    }
+
+    /// The `s` where the centre line's height along `dir` is `level`, by the
+    /// Illinois variant of regula falsi (the centre line of a part cut
+    /// across `dir` is monotone in height; converges superlinearly, to
+    /// 1e-12 of the part's length). `None` when the level is outside the
+    /// part.
+    pub fn s_at_level(&self, dir: Vec3, level: Real) -> Option<Real> {
+        let l = self.length();
+        let h = |s: Real| self.centre(s).dot(dir) - level;
+        let (mut a, mut b) = (0.0, l);
+        let (mut fa, mut fb) = (h(a), h(b));
+        if fa * fb > 0.0 || !(fa.is_finite() && fb.is_finite()) {
+            return None;
+        }
+        let mut side = 0;
+        for _ in 0..60 {
+            if fa == fb {
+                break;
+            }
+            let c = (a * fb - b * fa) / (fb - fa);
+            let fc = h(c);
+            if fc == 0.0 || (b - a).abs() <= 1e-12 * l {
+                return Some(c);
+            }
+            if (fc > 0.0) == (fb > 0.0) {
+                b = c;
+                fb = fc;
+                if side == -1 {
+                    fa *= 0.5;
+                }
+                side = -1;
+            } else {
+                a = c;
+                fa = fc;
+                if side == 1 {
+                    fb *= 0.5;
+                }
+                side = 1;
+            }
+            if fc.abs() <= 1e-13 * l {
+                return Some(c);
+            }
+        }
+        Some(0.5 * (a + b))
     }
 
     /// The segment containing `s` (clamped to the part) and the local `u`.
@@ -891,15 +945,13 @@ mod tests {
         let part = Part::new(down.clone(), &opts).unwrap();
         let t = part.end_tangent(false);
         let chord = Vec3::new(0.03, 0.0, -0.005).normalized().unwrap();
-        let mean = Vec3::new(t.x.c[0], t.y.c[0], t.z.c[0]);
-        assert_vec_near!(mean, chord, 1e-12);
+        assert_vec_near!(t.mean_point(), chord, 1e-12);
         assert!(part.end_cap().unwrap().apex.z < -0.015);
         // Reversed, the same at the start.
         let up: Vec<TrigCurve> = down.into_iter().rev().collect();
         let part = Part::new(up, &opts).unwrap();
         let t = part.end_tangent(true);
-        let mean = Vec3::new(t.x.c[0], t.y.c[0], t.z.c[0]);
-        assert_vec_near!(mean, chord, 1e-12);
+        assert_vec_near!(t.mean_point(), chord, 1e-12);
     }
 
     #[test]

@@ -148,10 +148,6 @@ fn scale(c: &SpaceCurve, f: Real) -> SpaceCurve {
     }
 }
 
-fn centre(c: &SpaceCurve) -> Point3 {
-    Vec3::new(c.x.c[0], c.y.c[0], c.z.c[0])
-}
-
 /// The boundary of `part` at one end: its (twist-aligned) curve and `∂t/∂s`
 /// pointing out of the part (`outward`) or into it.
 fn part_end(part: &Part, start: bool, outward: bool) -> (SpaceCurve, SpaceCurve) {
@@ -256,7 +252,7 @@ pub fn seam_half_loop(
     };
     let (enter, _) = cross(ups[0]);
     let (leave, _) = cross(downs[0]);
-    let axis = centre(tangent).normalized().unwrap_or(up);
+    let axis = tangent.mean_point().normalized().unwrap_or(up);
     // The kept arc, from where it enters the half to where it leaves.
     let mut poly: Vec<(Point3, Vec3)> = vec![(enter, axis)];
     let mut i = (ups[0] + 1) % m;
@@ -587,7 +583,10 @@ pub fn gap_scaled(t: &SpaceCurve, p0: &SpaceCurve, p1: &SpaceCurve, order: usize
 /// the distance between the curves' centres ([`gap_scaled`]; computed
 /// once for both tangents of a transition).
 fn relative_gaps(p0: &SpaceCurve, p1: &SpaceCurve) -> Vec<Real> {
-    let d = centre(p0).distance(centre(p1)).max(Real::MIN_POSITIVE);
+    let d = p0
+        .mean_point()
+        .distance(p1.mean_point())
+        .max(Real::MIN_POSITIVE);
     let m = HALF_LOOP_SAMPLES;
     (0..m)
         .map(|i| {
@@ -711,7 +710,7 @@ impl Transition {
         let grid = self.patch.grid(&us, &vs);
         for (j, &u) in us.iter().enumerate() {
             let c = self.patch.curve_at(u);
-            let g = centre(&c);
+            let g = c.mean_point();
             for &[p, du, dv] in &grid[j * around..(j + 1) * around] {
                 let n = dv.cross(du).normalized().unwrap_or(Vec3::ZERO);
                 outward += (p - g).dot(n);
@@ -811,7 +810,7 @@ pub fn fit_magnitudes(
     // Rows (j = 1..=8 at u = j / 9) middle out.
     const VISIT: [usize; ROWS] = [4, 5, 3, 6, 2, 7, 1, 8];
     let [p0, t0, p1, t1] = curves;
-    let d = centre(p0).distance(centre(p1));
+    let d = p0.mean_point().distance(p1.mean_point());
     if !(d > 0.0) {
         return Err(TransitionError::BadMagnitudes(d, d));
     }
@@ -1042,7 +1041,7 @@ mod tests {
         let curves = [p0.clone(), flare(0.7), p1.clone(), flare(-0.4)];
         let full = |dist: &dyn Fn(Point3) -> Real| {
             let [p0, t0, p1, t1] = &curves;
-            let d = centre(p0).distance(centre(p1));
+            let d = p0.mean_point().distance(p1.mean_point());
             let mut best = (Real::INFINITY, [d, d]);
             for a in MAGNITUDE_GRID {
                 for b in MAGNITUDE_GRID {
@@ -1148,7 +1147,9 @@ mod tests {
             (0..64)
                 .map(|i| {
                     let v = TAU * i as Real / 64.0;
-                    (c.point(v) - centre(c)).cross(c.derivative(v, 1)).dot(z)
+                    (c.point(v) - c.mean_point())
+                        .cross(c.derivative(v, 1))
+                        .dot(z)
                 })
                 .sum::<Real>()
         };

@@ -7,7 +7,8 @@
 //! from the kept sections around `k` (three each side, so the tangents
 //! of the segments' ends are the whole part's) and measures every section
 //! already dropped in that span and `k` itself against the new surface:
-//! the [`stray`] of its loop from the surface's curve at its place, less
+//! the [`stray`] of its loop from the surface's curve where the centre
+//! line crosses the loop's plane ([`Part::s_at_level`]), less
 //! the stray from its own fitted curve (the fit's own error, a scan's
 //! noise). A section goes when that excess stays within the tolerance for
 //! all of them. Trials run over the cores; the lowest excesses are taken
@@ -18,10 +19,8 @@
 //! arm are never removed ([`keep_after_pruning`]).
 
 use super::*;
-use crate::curve::trig::Frame;
 use crate::geom::math::Vec2;
 use crate::geom::parallel::parallel_map;
-use crate::surface::patch::Patch;
 
 /// Kept sections each side of a trial: enough for the changed segments'
 /// outer tangents to be the whole part's.
@@ -166,36 +165,6 @@ pub(in crate::body) fn pruned(
     Ok(build_part(plan, opts, scan, None, warnings)?.0)
 }
 
-/// Where on `patch` (its `u`) the curves' centre crosses the plane of
-/// `frame`, by bisection; `None` when it does not cross it.
-fn place(patch: &Patch, frame: &Frame) -> Option<Real> {
-    let normal = frame.normal();
-    // The centre of the curve at `u`: the patch's coefficient functions'
-    // constant terms, a polynomial in `u`.
-    let c0: Vec<Real> = patch
-        .coefficients()
-        .iter()
-        .map(|f| Vec3::new(f.x.c[0], f.y.c[0], f.z.c[0]).dot(normal))
-        .collect();
-    let at = frame.origin.dot(normal);
-    let h = |u: Real| c0.iter().rev().fold(0.0, |acc, &c| acc * u + c) - at;
-    let (mut a, mut b) = (0.0, 1.0);
-    let mut ha = h(a);
-    if !(ha * h(b) <= 0.0) {
-        return None;
-    }
-    for _ in 0..40 {
-        let m = 0.5 * (a + b);
-        let hm = h(m);
-        if ha * hm <= 0.0 {
-            b = m;
-        } else {
-            (a, ha) = (m, hm);
-        }
-    }
-    Some(0.5 * (a + b))
-}
-
 struct Trials<'a> {
     cuts: &'a [Cut],
     points: &'a [Vec<Vec2>],
@@ -218,10 +187,6 @@ impl Trials<'_> {
         let Ok(part) = Part::new(curves, self.options) else {
             return Real::INFINITY;
         };
-        let segments = part.segments();
-        if segments.len() + 1 != local.len() {
-            return Real::INFINITY;
-        }
         // The changed span: from the second kept section before to the
         // second after.
         let (from, to) = (live[k.saturating_sub(2)], live[(k + 2).min(live.len() - 1)]);
@@ -230,14 +195,16 @@ impl Trials<'_> {
             if kept[r] && r != live[k] {
                 continue;
             }
-            let Some(m) = local.windows(2).position(|w| w[0] < r && r < w[1]) else {
-                return Real::INFINITY;
-            };
-            let Some(u) = place(&segments[m].patch, &self.cuts[r].fit.curve.frame) else {
-                return Real::INFINITY;
-            };
+            // The surface's curve where its centre line crosses the loop's
+            // plane.
             let frame = &self.cuts[r].fit.curve.frame;
-            let d = stray_of(frame, &self.points[r], &segments[m].patch.curve_at(u)) - self.own[r];
+            let normal = frame.normal();
+            let Some(s) = part.s_at_level(normal, frame.origin.dot(normal)) else {
+                return Real::INFINITY;
+            };
+            let (m, u) = part.locate(s);
+            let curve = part.segments()[m].patch.curve_at(u);
+            let d = stray_of(frame, &self.points[r], &curve) - self.own[r];
             worst = worst.max(d);
         }
         worst
@@ -248,6 +215,7 @@ impl Trials<'_> {
 mod tests {
     use super::*;
     use crate::curve::fit::fit_loop_2d;
+    use crate::curve::trig::Frame;
     use crate::geom::math::Vec2;
 
     /// Sections of the surface of revolution of `radius` about z at the

@@ -31,7 +31,6 @@ import argparse
 import gzip
 import json
 import os
-import re
 import shutil
 import struct
 import subprocess
@@ -270,17 +269,14 @@ def trig_points(tools, name, path, units, up, work):
             print(f"  trigbody {tag}: failed: {r.stderr.strip()[-300:]}", file=sys.stderr)
             continue
         with open(report) as fh:
-            params = json.load(fh)["design_parameters"]
+            rep = json.load(fh)
+        params = rep["design_parameters"]
         with open(model) as fh:
-            doc = json.load(fh)
-        height = doc["body"]["height"]
-        # The JSON file's section numbers (frame 9 + coefficients), against
-        # the compact file's (frame 3): the rest of the count is the same.
-        json_sections = sum(9 + len(sec["a"]) + len(sec["b"])
-                            for part in doc["parts"] for sec in part["sections"])
+            height = json.load(fh)["body"]["height"]
         with open(model, "rb") as fh:
             gz = len(gzip.compress(fh.read(), 9))
         point = {"setting": tag, "coarseness": c, "parameters": params,
+                 "compact_numbers": rep["compact_numbers"],
                  "json_bytes": os.path.getsize(model), "json_gz_bytes": gz}
         files = [("json", None, model)]
         for quantum in TBM_QUANTA_MM:
@@ -291,9 +287,6 @@ def trig_points(tools, name, path, units, up, work):
                           + (["--quantum", str(quantum)] if quantum else []))
             if r.returncode == 0 and is_tbm(tbm):
                 files.append(("tbm", quantum, tbm))
-                m = re.search(r"(\d+) section numbers", r.stdout)
-                if quantum is None and m:
-                    point["compact_numbers"] = params - json_sections + int(m.group(1))
         for kind, quantum, f in files:
             skin = os.path.join(work, f"trig_{tag}_{kind}_skin.ply")
             r = tools.run(["mesh", f, "-o", skin, "--skin", "outer", "--force",

@@ -50,7 +50,7 @@ pub struct CorpusArgs {
     pub scan_frames: usize,
     /// As `reconstruct --prune`.
     #[arg(long, default_value_t = ReconstructOptions::default().prune_tolerance,
-          value_parser = crate::bounds::real_in(0.0, 0.05))]
+          value_parser = crate::bounds::real_in(0.0, trigbody_core::MAX_PRUNE_TOLERANCE))]
     pub prune: f64,
     /// Samples on each surface for the distances.
     #[arg(long, default_value_t = 100_000)]

@@ -95,7 +95,7 @@ pub struct BodyFlags {
     /// its loop within this fraction of the body's height (beyond the
     /// section's own fit); 0 keeps every section.
     #[arg(long, default_value_t = ReconstructOptions::default().prune_tolerance,
-          value_parser = crate::bounds::real_in(0.0, 0.05))]
+          value_parser = crate::bounds::real_in(0.0, trigbody_core::MAX_PRUNE_TOLERANCE))]
     pub prune: Real,
     /// A scan is reconstructed in this many frames (as given, then turned
     /// about its up axis in 15° steps) and the model nearest the scan

@@ -58,7 +58,8 @@ mod surface;
 pub use anatomy::{BodyFrame, BodyGeometry, Landmark, LandmarkKind, PartName};
 pub use body::{
     reconstruct, reconstruct_with_progress, Body, BodyCavity, BodyPart, BodyTransition, Progress,
-    ReconstructError, ReconstructOptions, Report, SectionFit, Units, MAX_SCAN_FRAMES,
+    ReconstructError, ReconstructOptions, Report, SectionFit, Units, MAX_PRUNE_TOLERANCE,
+    MAX_SCAN_FRAMES,
 };
 pub use curve::ellipse::{fit_ellipse, EllipseFit};
 pub use curve::fit::{

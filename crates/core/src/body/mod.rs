@@ -252,6 +252,10 @@ impl Default for ReconstructOptions {
     }
 }
 
+/// The largest [`ReconstructOptions::prune_tolerance`] (a twentieth of
+/// the height: past it a part keeps little more than its ends).
+pub const MAX_PRUNE_TOLERANCE: Real = 0.05;
+
 /// The most frames [`ReconstructOptions::scan_frames`] allows: 6 frames
 /// 15° apart span the 90° after which an axis-aligned grid repeats.
 pub const MAX_SCAN_FRAMES: usize = 6;
@@ -460,7 +464,8 @@ fn check_options(o: &ReconstructOptions) -> Result<(), ReconstructError> {
     pos("max_curve_offset", o.max_curve_offset)?;
     pos("coverage_mm", o.coverage_mm)?;
     pos("skin_depth", o.skin_depth)?;
-    if !(o.prune_tolerance.is_finite() && (0.0..=0.05).contains(&o.prune_tolerance)) {
+    if !(o.prune_tolerance.is_finite() && (0.0..=MAX_PRUNE_TOLERANCE).contains(&o.prune_tolerance))
+    {
         return Err(ReconstructError::BadOption {
             name: "prune_tolerance",
             value: o.prune_tolerance,

@@ -101,15 +101,12 @@ pub enum RateError {
     BadGoal(String),
 }
 
-/// The largest pruning tolerance a coarseness gives (the option's bound).
-const MAX_PRUNE: Real = 0.05;
-
 /// The options at coarseness `c`.
 pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
     let mut o = *base;
     o.fit.ea = base.fit.ea * c;
     o.fit.em = base.fit.em * c;
-    o.prune_tolerance = (base.prune_tolerance * c).min(MAX_PRUNE);
+    o.prune_tolerance = (base.prune_tolerance * c).min(crate::body::MAX_PRUNE_TOLERANCE);
     o.refine_tolerance = base.refine_tolerance * c;
     o
 }

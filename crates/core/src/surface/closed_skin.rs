@@ -60,7 +60,7 @@ pub enum ClosedSkinError {
 pub fn closed_skin(solids: &[Mesh], cavities: &[Mesh]) -> Result<Mesh, ClosedSkinError> {
     let (soup, piece) = closed_soup(solids, cavities)?;
     match crate::surface::local_skin::local_closed_skin(&soup, &piece) {
-        Some(skin) => Ok(without_slivers(without_specks(skin))),
+        Some(skin) => Ok(tidied(skin)),
         None => whole_soup_skin(&soup),
     }
 }
@@ -105,9 +105,7 @@ pub fn whole_soup_skin(soup: &Mesh) -> Result<Mesh, ClosedSkinError> {
     let imported = Manifold::from_mesh_gl64_robust(&mesh_gl(soup));
     let skin = imported.rebuild_solid(WindingRule::Positive);
     match skin.status() {
-        ManifoldError::NoError => Ok(without_slivers(without_specks(from_mesh_gl(
-            &skin.get_mesh_gl64(-1),
-        )))),
+        ManifoldError::NoError => Ok(tidied(from_mesh_gl(&skin.get_mesh_gl64(-1)))),
         e => Err(ClosedSkinError::Boolean {
             why: format!("{e:?}"),
         }),
@@ -230,6 +228,11 @@ fn shell_labels(m: &Mesh) -> (Vec<u32>, Vec<(usize, Real)>) {
         })
         .collect();
     (labels, shells)
+}
+
+/// A rebuilt skin without its specks and slivers, whichever path made it.
+fn tidied(m: Mesh) -> Mesh {
+    without_slivers(without_specks(m))
 }
 
 /// `m` without its specks: shells enclosing less than [`SPECK`] of the

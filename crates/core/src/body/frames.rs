@@ -24,35 +24,57 @@ pub(super) const FRAME_STEP: Real = 15.0;
 /// user can reproduce with `--scan-frames 1`.
 pub(super) const CLEAR_GAIN: Real = 0.02;
 
+/// A frame of a scan: its turn about the up axis in degrees and the
+/// motion that turns the cloud into it (`None` for the frame as given).
+pub(super) type Frame = (Real, Option<Rigid>);
+
 /// The best of [`ReconstructOptions::scan_frames`] reconstructions of
 /// `cloud` (already cleaned), turned back into the cloud's frame, with a
-/// warning naming each frame's distance; the first frame's error when
-/// every frame fails.
+/// warning naming each frame's distance, and the frame chosen; the first
+/// frame's error when every frame fails.
 pub(super) fn best_of_frames(
     cloud: &PointCloud,
     opts: &ReconstructOptions,
     progress: &mut dyn FnMut(&str),
-) -> Result<(Body, Report), ReconstructError> {
-    let first = reconstruct_steps(BodyGeometry::Cloud(cloud), opts, progress);
-    let up = match &first {
-        Ok((body, _)) => Some(body.frame.up),
+) -> Result<((Body, Report), Frame), ReconstructError> {
+    // The frames are turned about the as-given frame's up axis (found by
+    // its segmentation); the turned frames are reconstructed on the other
+    // cores while the as-given one reports its progress here.
+    let segmented = Segmented::of(BodyGeometry::Cloud(cloud), opts, progress);
+    let up = match &segmented {
+        Ok(s) => Some(s.seg0.frame.up),
         Err(_) => opts.segment.up,
     };
     let n = cloud.positions.len().max(1) as Real;
     let centre = cloud.positions.iter().fold(Vec3::ZERO, |a, &p| a + p) / n;
+    let turns: Vec<(Real, Rigid)> = (1..opts.scan_frames)
+        .map_while(|k| {
+            let angle = k as Real * FRAME_STEP;
+            let turn = Rigid::turn_about(centre, up?, angle.to_radians())?;
+            Some((angle, turn))
+        })
+        .collect();
+    let mut turned: Vec<Option<Result<(Body, Report), ReconstructError>>> =
+        turns.iter().map(|_| None).collect();
+    let first = rayon::in_place_scope(|scope| {
+        for (slot, (_, turn)) in turned.iter_mut().zip(&turns) {
+            scope.spawn(move |_| {
+                let moved = turn.cloud(cloud);
+                let o = turned_options(opts, turn);
+                *slot = Some(
+                    reconstruct_steps(BodyGeometry::Cloud(&moved), &o, &mut |_| {})
+                        .and_then(|r| turned_back(r, &turn.inverse())),
+                );
+            });
+        }
+        segmented.and_then(|s| build(&Groundwork::new(&s), opts, progress))
+    });
+    // Every spawned frame has run when the scope ends.
     let mut tries = vec![(0.0, first)];
-    for k in 1..opts.scan_frames {
-        let angle = k as Real * FRAME_STEP;
-        let Some(turn) = up.and_then(|u| Rigid::turn_about(centre, u, angle.to_radians())) else {
-            break;
-        };
-        let turned = turn.cloud(cloud);
-        let mut o = *opts;
-        o.segment.up = opts.segment.up.map(|u| turn.vector(u));
-        o.segment.front = opts.segment.front.map(|f| turn.vector(f));
-        let result = reconstruct_steps(BodyGeometry::Cloud(&turned), &o, progress)
-            .and_then(|(body, report)| turned_back((body, report), &turn.inverse()));
+    let mut frames = vec![None];
+    for ((angle, turn), result) in turns.into_iter().zip(turned.into_iter().flatten()) {
         tries.push((angle, result));
+        frames.push(Some(turn));
     }
     let rms = |t: &(Real, Result<(Body, Report), ReconstructError>)| {
         t.1.as_ref()
@@ -75,6 +97,7 @@ pub(super) fn best_of_frames(
         0
     };
     let (angle, result) = tries.swap_remove(chosen);
+    let turn = frames.swap_remove(chosen);
     let (body, mut report) = result?;
     if summary.len() > 1 {
         report.warnings.push(format!(
@@ -84,11 +107,19 @@ pub(super) fn best_of_frames(
             100.0 * CLEAR_GAIN
         ));
     }
-    Ok((body, report))
+    Ok(((body, report), (angle, turn)))
+}
+
+/// `opts` for a cloud moved by `turn`: a given up and front turned with it.
+pub(super) fn turned_options(opts: &ReconstructOptions, turn: &Rigid) -> ReconstructOptions {
+    let mut o = *opts;
+    o.segment.up = opts.segment.up.map(|u| turn.vector(u));
+    o.segment.front = opts.segment.front.map(|f| turn.vector(f));
+    o
 }
 
 /// A model and its report's joints moved by `back`.
-fn turned_back(
+pub(super) fn turned_back(
     (body, mut report): (Body, Report),
     back: &Rigid,
 ) -> Result<(Body, Report), ReconstructError> {

@@ -71,6 +71,7 @@ use crate::curve::fit::{fit_loop, FitOptions, LoopFit};
 use crate::curve::trig::TrigCurve;
 use crate::geom::math::{mean_radius, Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
+use crate::geom::rigid::Rigid;
 use crate::section::cloud::scan_fit_options;
 use crate::section::mesh::SectionLoop;
 use crate::segment::{segment, Cutter, PartAxis, SegmentError, SegmentOptions, Segmentation};
@@ -82,6 +83,7 @@ use crate::surface::part::{Part, PartError, PartOptions};
 use crate::surface::pieces::{tessellate_pieces, Piece};
 use crate::surface::tessellate::{TessellateError, TessellationOptions};
 use crate::surface::transition::{fit_magnitudes, Seam, SideCut, Transition, TransitionSpec};
+use rayon::prelude::*;
 use std::fmt;
 use thiserror::Error;
 
@@ -90,6 +92,7 @@ mod frames;
 mod plan;
 mod pose;
 pub mod rate;
+mod repeat;
 mod report;
 
 pub use cavity::*;
@@ -556,39 +559,15 @@ pub fn reconstruct_with_progress(
         BodyGeometry::Mesh(mesh) => Some(pose::own_pose(mesh, opts)?),
         BodyGeometry::Cloud(_) => None,
     };
-    let mut own_opts = *opts;
-    if let Some((_, into)) = &own {
-        own_opts.segment.up = Some(Vec3::Y);
-        own_opts.segment.front = opts.segment.front.map(|f| into.vector(f));
-    }
-    let prepared = pose::Prepared::of(
-        own.as_ref().map_or(body, |o| BodyGeometry::Mesh(&o.0)),
-        &own_opts,
-    );
-    let own_opts = prepared.options(&own_opts);
-    let (model, mut report) = match prepared.geometry() {
+    let into = own.as_ref().map(|o| &o.1);
+    let (prepared, own_opts) = pose::Prepared::in_own_frame(body, own.as_ref(), opts);
+    let result = match prepared.geometry() {
         BodyGeometry::Cloud(cloud) if own_opts.scan_frames > 1 => {
-            frames::best_of_frames(cloud, &own_opts, &mut progress)?
+            frames::best_of_frames(cloud, &own_opts, &mut progress)?.0
         }
         input => reconstruct_steps(input, &own_opts, &mut progress)?,
     };
-    let mut warnings = prepared.warnings(&mut report, opts.units);
-    warnings.append(&mut report.warnings);
-    // A part rebuilt after a dropped section says again what it dropped
-    // before: each warning once, in order.
-    let mut seen = std::collections::HashSet::new();
-    warnings.retain(|w| seen.insert(w.clone()));
-    report.warnings = warnings;
-    let model = match &own {
-        Some((_, into)) => {
-            let back = into.inverse();
-            for (_, p) in report.joints.iter_mut() {
-                *p = back.point(*p);
-            }
-            model.moved(&back)?
-        }
-        None => model,
-    };
+    let (model, report) = finished(result, &prepared, into, opts)?;
     report_progress(Progress {
         stage: "done",
         done: RECONSTRUCT_STEPS,
@@ -597,29 +576,109 @@ pub fn reconstruct_with_progress(
     Ok((model, report))
 }
 
+/// A model of the input in its own frame (`into` took it there) made the
+/// user's: the preparation's warnings first, each warning once, the model
+/// and the joints moved back.
+fn finished(
+    (model, mut report): (Body, Report),
+    prepared: &pose::Prepared<'_>,
+    into: Option<&Rigid>,
+    opts: &ReconstructOptions,
+) -> Result<(Body, Report), ReconstructError> {
+    let mut warnings = prepared.warnings(&mut report, opts.units);
+    warnings.append(&mut report.warnings);
+    // A part rebuilt after a dropped section says again what it dropped
+    // before: each warning once, in order.
+    let mut seen = std::collections::HashSet::new();
+    warnings.retain(|w| seen.insert(w.clone()));
+    report.warnings = warnings;
+    match into {
+        Some(into) => frames::turned_back((model, report), &into.inverse()),
+        None => Ok((model, report)),
+    }
+}
+
 fn reconstruct_steps(
     body: BodyGeometry<'_>,
     opts: &ReconstructOptions,
     progress: &mut dyn FnMut(&str),
 ) -> Result<(Body, Report), ReconstructError> {
-    progress("segmenting");
-    let seg0 = segment(body, &opts.segment)?;
+    let segmented = Segmented::of(body, opts, progress)?;
+    build(&Groundwork::new(&segmented), opts, progress)
+}
+
+/// The input segmented (`seg0`), and with the legs continued to the
+/// floor (`seg`): what every reconstruction of it shares whatever the
+/// curve, pruning and refinement tolerances.
+struct Segmented<'a> {
+    body: BodyGeometry<'a>,
+    seg0: Segmentation,
+    seg: Segmentation,
+}
+
+impl<'a> Segmented<'a> {
+    fn of(
+        body: BodyGeometry<'a>,
+        opts: &ReconstructOptions,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<Segmented<'a>, ReconstructError> {
+        progress("segmenting");
+        let seg0 = segment(body, &opts.segment)?;
+        let seg = legs_to_floor(&seg0, opts);
+        Ok(Segmented { body, seg0, seg })
+    }
+}
+
+/// A segmented input with its cutter (whose slicers and grids are built
+/// on first use) and its distance structure.
+struct Groundwork<'a> {
+    body: BodyGeometry<'a>,
+    seg0: &'a Segmentation,
+    seg: &'a Segmentation,
+    cutter: Cutter<'a>,
+    input: InputDistance<'a>,
+}
+
+impl<'a> Groundwork<'a> {
+    fn new(s: &'a Segmented<'a>) -> Groundwork<'a> {
+        let input = match s.body {
+            BodyGeometry::Mesh(m) => InputDistance::Mesh(MeshDistance::new(m)),
+            BodyGeometry::Cloud(c) => {
+                InputDistance::Cloud(PointGrid::new(&c.positions, 0.01 * s.seg0.height))
+            }
+        };
+        Groundwork {
+            body: s.body,
+            seg0: &s.seg0,
+            seg: &s.seg,
+            cutter: Cutter::new(s.body, &s.seg),
+            input,
+        }
+    }
+}
+
+/// The model and its report from a segmented input (the steps after the
+/// segmentation; see the module's notes).
+fn build<'a>(
+    g: &'a Groundwork<'a>,
+    opts: &ReconstructOptions,
+    progress: &mut dyn FnMut(&str),
+) -> Result<(Body, Report), ReconstructError> {
+    let (body, seg0, seg, cutter, input) = (g.body, g.seg0, g.seg, &g.cutter, &g.input);
     let mut warnings = seg0.warnings.clone();
     let h = seg0.height;
     let up = seg0.frame.up;
     let floor = seg0.frame.origin.dot(up);
-    let seg = legs_to_floor(&seg0, opts);
 
     // Horizontal cuts at the crotch itself meet both legs or their merged
     // loop: the torso starts a little above it and the legs a little below.
-    let crotch_level = landmark(&seg, LandmarkKind::Crotch).map_or(floor + 0.47 * h, |c| c.dot(up));
+    let crotch_level = landmark(seg, LandmarkKind::Crotch).map_or(floor + 0.47 * h, |c| c.dot(up));
     // Wider for scans: their slabs are a point spacing thick and the crotch
     // is a scanner hole, where a narrow margin mixes both thighs.
     let margin = match body {
         BodyGeometry::Mesh(_) => 0.6,
         BodyGeometry::Cloud(_) => 1.5,
     } * seg.slice_spacing;
-    let cutter = Cutter::new(body, &seg);
     // The torso's sections, its loops above the armpits clipped as
     // `shoulders` says (see [`Shoulders`]).
     let torso_plan = |shoulders: Shoulders, warnings: &mut Vec<String>| {
@@ -628,7 +687,7 @@ fn reconstruct_steps(
         Some(Plan {
             name: PartName::Torso,
             cuts: cut_all(
-                &cutter,
+                cutter,
                 PartName::Torso,
                 &fractions(
                     fraction_at_level(axis, up, crotch_level + margin, true),
@@ -647,28 +706,37 @@ fn reconstruct_steps(
         })
     };
     let limbs = LimbPlans {
-        cutter: &cutter,
-        seg: &seg,
-        seg0: &seg0,
+        cutter,
+        seg,
+        seg0,
         opts,
         floor,
         leg_top: crotch_level - margin,
     };
-    let mut shoulders = Shoulders::of(&seg);
+    let mut shoulders = Shoulders::of(seg);
     // The torso is planned after the arms are built: its loops stop at
-    // their first sections.
-    let (plans, with_torso) = limbs.plans(progress, &mut warnings);
-
+    // their first sections. The other parts are planned and built over
+    // the cores; their warnings and steps are told in order after.
+    let (limb_parts, with_torso) = limbs.parts(&mut warnings);
+    let built: Vec<_> = limb_parts
+        .par_iter()
+        .map(|&(name, axis)| {
+            let (mut planning, mut building) = (Vec::new(), Vec::new());
+            let plan = limbs.plan(name, axis, &mut planning);
+            let part = refine(cutter, plan, opts, input, &mut building);
+            (name, planning, part, building)
+        })
+        .collect();
+    for (name, planning, ..) in &built {
+        progress(&format!("sections: {name}"));
+        warnings.extend(planning.iter().cloned());
+    }
     progress("skinning");
-    let input = match body {
-        BodyGeometry::Mesh(m) => InputDistance::Mesh(MeshDistance::new(m)),
-        BodyGeometry::Cloud(c) => InputDistance::Cloud(PointGrid::new(&c.positions, 0.01 * h)),
-    };
     let mut parts = Vec::new();
-    for plan in plans {
-        let name = plan.name;
+    for (name, _, part, building) in built {
         progress(&format!("skinning and refining: {name}"));
-        match refine(&cutter, plan, opts, &input, &mut warnings) {
+        warnings.extend(building);
+        match part {
             Ok(p) => parts.push(p),
             Err(e) => warnings.push(format!("{name} left out: {e}")),
         }
@@ -679,7 +747,7 @@ fn reconstruct_steps(
         let plan = torso_plan(shoulders, &mut warnings);
         progress("skinning and refining: torso");
         if let Some(plan) = plan {
-            let torso = refine(&cutter, plan, opts, &input, &mut warnings)?;
+            let torso = refine(cutter, plan, opts, input, &mut warnings)?;
             let k = parts
                 .iter()
                 .take_while(|p| p.name < PartName::Torso)
@@ -693,9 +761,9 @@ fn reconstruct_steps(
     let transitions = loop {
         let (transitions, poor) = assemble(
             &mut parts,
-            &seg,
+            seg,
             crotch_level,
-            &input,
+            input,
             shoulders,
             opts.units.to_mm(),
             &mut warnings,
@@ -715,14 +783,14 @@ fn reconstruct_steps(
             }
         }
         if let Some(plan) = torso_plan(shoulders, &mut warnings) {
-            let torso = refine(&cutter, plan, opts, &input, &mut warnings)?;
+            let torso = refine(cutter, plan, opts, input, &mut warnings)?;
             if let Some(t) = parts.iter_mut().find(|p| p.name == PartName::Torso) {
                 *t = torso;
             }
         }
     };
     progress("cavities");
-    let cavities = head_cavities(&cutter, &parts, &input, opts, &mut warnings);
+    let cavities = head_cavities(cutter, &parts, input, opts, &mut warnings);
     let model = Body {
         units: opts.units,
         frame: seg.frame,
@@ -732,7 +800,7 @@ fn reconstruct_steps(
         cavities,
     };
     progress("measuring");
-    let report = measure_with(body, &model, &seg0, opts, warnings, &input)?;
+    let report = measure_with(body, &model, seg0, opts, warnings, input)?;
     Ok((model, report))
 }
 

@@ -73,6 +73,25 @@ impl<'a> Prepared<'a> {
         }
     }
 
+    /// The input as the steps see it, `own` its copy in the body's own
+    /// frame (a mesh's, [`own_pose`]), with the options for it: up is the
+    /// frame's +y and a given front turned with it, or a scan's floor
+    /// normal ([`Prepared::options`]).
+    pub(super) fn in_own_frame(
+        input: BodyGeometry<'a>,
+        own: Option<&'a (Mesh, Rigid)>,
+        opts: &ReconstructOptions,
+    ) -> (Prepared<'a>, ReconstructOptions) {
+        let mut own_opts = *opts;
+        if let Some((_, into)) = own {
+            own_opts.segment.up = Some(crate::geom::math::Vec3::Y);
+            own_opts.segment.front = opts.segment.front.map(|f| into.vector(f));
+        }
+        let prepared = Prepared::of(own.map_or(input, |o| BodyGeometry::Mesh(&o.0)), &own_opts);
+        let own_opts = prepared.options(&own_opts);
+        (prepared, own_opts)
+    }
+
     pub(super) fn geometry(&self) -> BodyGeometry<'_> {
         match (&self.cleaned, &self.closed) {
             (Some((cloud, _)), _) => BodyGeometry::Cloud(cloud),

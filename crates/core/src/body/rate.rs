@@ -21,9 +21,21 @@
 //! coarsest trial's.
 
 use crate::anatomy::BodyGeometry;
-use crate::body::{reconstruct, Body, ReconstructError, ReconstructOptions, Report};
+use crate::body::repeat::{reconstruct_each, Run};
+use crate::body::{Body, ReconstructError, ReconstructOptions, Report};
 use crate::geom::math::Real;
 use thiserror::Error;
+
+/// The narrowest bracket on `log c` (or `log f`) worth a trial: models
+/// 2 % apart in their tolerances differ by a few parameters.
+const NARROWEST: Real = 0.02;
+
+/// A finer trial whose RMS is within this fraction of the coarser one's,
+/// both above the target, ends a target RMS search: the model's error is
+/// the segmentation's and the sections', not the curve tolerances'. (An
+/// RMS that rises at a finer trial, a section dropped there, does not end
+/// it.)
+const FLOOR_GAIN: Real = 0.01;
 
 /// What the search aims for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -170,13 +182,15 @@ type Evaluated = ((Real, Real), Result<(Body, Report), ReconstructError>);
 /// A kept model with its coarseness and tolerance factor.
 type Kept = ((Real, Real), Body, Report);
 
-/// Reconstructs `input` to meet `goal` (see the module's notes).
+/// Reconstructs `input` to meet `goal` (see the module's notes). The
+/// trials share the input's preparation and segmentation, and a scan's
+/// frame is chosen at the first ([`repeat`](super::repeat)).
 pub fn reconstruct_for(
     input: BodyGeometry<'_>,
     base: &ReconstructOptions,
     goal: Goal,
     options: &RateOptions,
-    mut on_trial: impl FnMut(&Trial),
+    on_trial: impl FnMut(&Trial),
 ) -> Result<RateOutcome, RateError> {
     match goal {
         Goal::TargetRms(t) if !(t.is_finite() && t > 0.0) => {
@@ -185,6 +199,19 @@ pub fn reconstruct_for(
         Goal::MaxParameters(0) => return Err(RateError::BadGoal("0 parameters".to_string())),
         _ => {}
     }
+    reconstruct_each(input, base, |run| {
+        search(run, base, goal, options, on_trial)
+    })
+}
+
+/// The search of [`reconstruct_for`], `run` reconstructing the input.
+fn search(
+    run: &mut Run<'_>,
+    base: &ReconstructOptions,
+    goal: Goal,
+    options: &RateOptions,
+    mut on_trial: impl FnMut(&Trial),
+) -> Result<RateOutcome, RateError> {
     let feasible = |r: &Report| match goal {
         Goal::TargetRms(t) => r.distance_mm.rms <= t,
         Goal::MaxParameters(n) => r.design_parameters <= n,
@@ -205,7 +232,7 @@ pub fn reconstruct_for(
     let (aim, slope) = aim_and_slope(goal, options);
     let mut trials = Vec::new();
     let mut evaluate = |c: Real, f: Real| -> Evaluated {
-        let result = reconstruct(input, &at(base, c, f));
+        let result = run(&at(base, c, f));
         let trial = Trial {
             coarseness: c,
             tolerance: f,
@@ -257,8 +284,11 @@ pub fn reconstruct_for(
         None => {}
     }
     let done = |best: &Option<Kept>| best.as_ref().is_some_and(|(_, _, r)| close_enough(r));
+    // A target RMS below what finer tolerances reach: a finer trial still
+    // too far, its RMS hardly other than the coarser one's.
+    let mut floor = false;
     for _ in 0..options.steps {
-        if done(&best) {
+        if done(&best) || hi - lo < NARROWEST {
             break;
         }
         let mid = next_trial((lo, lo_m), (hi, hi_m), aim, slope);
@@ -268,7 +298,15 @@ pub fn reconstruct_for(
             // A failed reconstruction counts as too coarse.
             None => (hi, hi_m) = (mid, None),
             Some(ok) if ok == fine_feasible => (lo, lo_m) = (mid, m),
-            Some(_) => (hi, hi_m) = (mid, m),
+            Some(_) => {
+                if let (true, Some(coarser), Some(m)) = (fine_feasible, hi_m, m) {
+                    floor = (m - coarser).abs() < FLOOR_GAIN;
+                }
+                (hi, hi_m) = (mid, m);
+                if floor {
+                    break;
+                }
+            }
         }
     }
     // A target the RMS jumps across: coarser curve tolerances alone, at
@@ -277,7 +315,7 @@ pub fn reconstruct_for(
         let c = *c;
         let (mut lo, mut hi) = (0.0, (options.max_coarseness / c).max(1.0).ln());
         for _ in 0..options.steps {
-            if done(&best) {
+            if done(&best) || hi - lo < NARROWEST {
                 break;
             }
             let mid = 0.5 * (lo + hi);
@@ -287,8 +325,9 @@ pub fn reconstruct_for(
             }
         }
     }
-    // Nothing feasible in the bracket: try its far end once.
-    if best.is_none() {
+    // Nothing feasible in the bracket: try its far end once (unless the
+    // RMS stopped falling before it).
+    if best.is_none() && !floor {
         let end = if fine_feasible {
             options.min_coarseness
         } else {

@@ -6,25 +6,24 @@ use super::*;
 /// What the head's, arms' and legs' section plans need: the cutter, the
 /// segmentation (legs extended to the floor) and the original one, the
 /// options, the floor's height and the level the legs start below.
-pub(in crate::body) struct LimbPlans<'a> {
+pub(in crate::body) struct LimbPlans<'a, 'o> {
     pub(in crate::body) cutter: &'a Cutter<'a>,
     pub(in crate::body) seg: &'a Segmentation,
     pub(in crate::body) seg0: &'a Segmentation,
-    pub(in crate::body) opts: &'a ReconstructOptions,
+    pub(in crate::body) opts: &'o ReconstructOptions,
     pub(in crate::body) floor: Real,
     pub(in crate::body) leg_top: Real,
 }
 
-impl LimbPlans<'_> {
-    /// Every part's plan but the torso's and the feet's (the legs cover
+impl<'a> LimbPlans<'a, '_> {
+    /// Every part with an axis but the torso and the feet (the legs cover
     /// them with shoe ends), in [`PartName::ALL`]'s order, and whether the
     /// segmentation has a torso to plan after them.
-    pub(in crate::body) fn plans(
+    pub(in crate::body) fn parts(
         &self,
-        progress: &mut dyn FnMut(&str),
         warnings: &mut Vec<String>,
-    ) -> (Vec<Plan>, bool) {
-        let mut plans = Vec::new();
+    ) -> (Vec<(PartName, &'a PartAxis)>, bool) {
+        let mut parts = Vec::new();
         let mut with_torso = false;
         let feet = [PartName::LeftFoot, PartName::RightFoot];
         for name in PartName::ALL.into_iter().filter(|n| !feet.contains(n)) {
@@ -32,24 +31,32 @@ impl LimbPlans<'_> {
                 warnings.push(format!("{name} not found: left out of the model"));
                 continue;
             };
-            let len = axis.length();
-            if !(len > 0.0) {
+            if !(axis.length() > 0.0) {
                 warnings.push(format!("{name}: axis of zero length, left out"));
                 continue;
             }
             if name == PartName::Torso {
                 with_torso = true;
-                continue;
+            } else {
+                parts.push((name, axis));
             }
-            progress(&format!("sections: {name}"));
-            let step = self.opts.spacing * self.seg.height / len;
-            plans.push(match name {
-                PartName::Head => self.head(axis, step, warnings),
-                PartName::LeftArm | PartName::RightArm => self.arm(name, axis, step, warnings),
-                _ => self.leg(name, axis, step, warnings),
-            });
         }
-        (plans, with_torso)
+        (parts, with_torso)
+    }
+
+    /// The plan of one of [`LimbPlans::parts`].
+    pub(in crate::body) fn plan(
+        &self,
+        name: PartName,
+        axis: &PartAxis,
+        warnings: &mut Vec<String>,
+    ) -> Plan {
+        let step = self.opts.spacing * self.seg.height / axis.length();
+        match name {
+            PartName::Head => self.head(axis, step, warnings),
+            PartName::LeftArm | PartName::RightArm => self.arm(name, axis, step, warnings),
+            _ => self.leg(name, axis, step, warnings),
+        }
     }
 
     /// The head: from the neck to a rounded top closed by a dome.

@@ -18,7 +18,10 @@
 //! seven. Where the RMS jumps across a target between two trials (a
 //! section dropped or a transition left out), a second bisection scales
 //! the curve tolerances alone, at the chosen coarseness, up to the
-//! coarsest trial's.
+//! coarsest trial's. The trials share the input's preparation and
+//! segmentation, and a scan's frame is chosen once (`body/repeat.rs`).
+//! A target below what finer tolerances reach ends the search when a finer
+//! trial's RMS hardly differs from a coarser one's (`FLOOR_GAIN`).
 
 use crate::anatomy::BodyGeometry;
 use crate::body::repeat::{reconstruct_each, Run};
@@ -184,7 +187,7 @@ type Kept = ((Real, Real), Body, Report);
 
 /// Reconstructs `input` to meet `goal` (see the module's notes). The
 /// trials share the input's preparation and segmentation, and a scan's
-/// frame is chosen at the first ([`repeat`](super::repeat)).
+/// frame is chosen at the first (`body/repeat.rs`).
 pub fn reconstruct_for(
     input: BodyGeometry<'_>,
     base: &ReconstructOptions,

@@ -350,7 +350,7 @@ fn without_slivers(m: Mesh) -> Mesh {
 }
 
 /// An edge of the closed skin shorter than this fraction of the model's
-/// size is collapsed ([`without_slivers`]): a micrometre on a 2 m body,
+/// size is collapsed (`without_slivers`): a micrometre on a 2 m body,
 /// far below any tessellation's edges.
 pub const SLIVER: Real = 5e-7;
 

@@ -177,6 +177,11 @@ fn table(r: &Report) -> String {
         3 * r.input_vertices,
         100.0 * r.parameter_ratio()
     ));
+    let by = r.region_parameters;
+    t.push_str(&format!(
+        "  by region: head {}, hands {}, feet {}, rest {}\n",
+        by.head, by.hands, by.feet, by.rest
+    ));
     let d = |name: &str, x: &trigbody_core::internals::body::DistanceMm| {
         format!(
             "{name:<16} rms {:>6.2} mm  p95 {:>6.2} mm  max {:>7.2} mm\n",

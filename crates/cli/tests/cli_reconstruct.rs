@@ -65,6 +65,17 @@ fn built_in_body_writes_model_mesh_and_report() {
         assert!(report["distance_mm"][key].as_f64().unwrap() > 0.0);
     }
     assert_eq!(report["input_vertices"], 13380);
+    // The design parameters by region add up to the whole, every region
+    // has some, and the terminal says the same.
+    let by = &report["region_parameters"];
+    let regions = ["head", "hands", "feet", "rest"].map(|k| by[k].as_u64().unwrap());
+    assert!(regions.iter().all(|&n| n > 0), "{by}");
+    assert_eq!(regions.iter().sum::<u64>(), report["design_parameters"]);
+    let line = format!(
+        "by region: head {}, hands {}, feet {}, rest {}",
+        regions[0], regions[1], regions[2], regions[3]
+    );
+    assert!(stdout.contains(&line), "{line}: {stdout}");
     // Six parts and the head's cavity (the built-in mesh models the
     // inside of its mouth).
     let parts = report["parts"].as_array().unwrap();

@@ -207,7 +207,8 @@ pub fn report_part_names(report: &Report) -> Vec<String> {
 /// `unobserved_samples` (a cloud's model samples over its holes, see
 /// [`Report::unobserved_samples`]), `visible_rms_mm` and `visible_p95_mm`
 /// (the symmetric RMS and p95 without the hidden or unobserved samples),
-/// `interior_area_share` (the share of the pieces' tessellated area inside
+/// `region_parameters` (the design parameters of the head, the hands, the
+/// feet and the rest, [`Report::region_parameters`]), `interior_area_share` (the share of the pieces' tessellated area inside
 /// other pieces, left out of both distance directions: they measure the
 /// model's outer skin, see [`Report::interior_area_share`]), `parts` (per part: sections, orders {min, median, max},
 /// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
@@ -217,6 +218,12 @@ pub fn report_json(report: &Report) -> Value {
     json!({
         "design_parameters": report.design_parameters,
         "compact_numbers": report.compact_numbers,
+        "region_parameters": {
+            "head": report.region_parameters.head,
+            "hands": report.region_parameters.hands,
+            "feet": report.region_parameters.feet,
+            "rest": report.region_parameters.rest,
+        },
         "input_vertices": report.input_vertices,
         "polygon_parameters": 3 * report.input_vertices,
         "parameter_ratio": report.parameter_ratio(),

@@ -63,6 +63,30 @@ fn print_row(name: &str, r: &Report) {
 fn check_parts(name: &str, body: &Body, r: &Report) {
     assert_eq!(r.parts_found.len(), 8, "{name}: {:?}", r.parts_found);
     assert_eq!(body.parts.len(), 6, "{name}: {:?}", r.warnings);
+    // The regions' parameters add up, and each lies within its parts: the
+    // hands within the arms, the feet within the legs, the head mostly
+    // the head part's and its cavity's.
+    let by = r.region_parameters;
+    assert_eq!(by.total(), r.design_parameters, "{name}: {by:?}");
+    let of = |names: &[PartName]| -> usize {
+        r.parts
+            .iter()
+            .filter(|p| names.contains(&p.name))
+            .map(|p| p.design_parameters)
+            .sum()
+    };
+    let arms = of(&[PartName::LeftArm, PartName::RightArm]);
+    let legs = of(&[PartName::LeftLeg, PartName::RightLeg]);
+    assert!(
+        by.hands > 0 && by.hands < arms,
+        "{name}: {by:?}, arms {arms}"
+    );
+    assert!(by.feet > 0 && by.feet < legs, "{name}: {by:?}, legs {legs}");
+    let head = of(&[PartName::Head]);
+    assert!(
+        by.head >= head * 4 / 5,
+        "{name}: {by:?}, head part and cavity {head}"
+    );
     // Both legs join the torso's bottom through a transition.
     for leg in [PartName::LeftLeg, PartName::RightLeg] {
         assert!(

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::segment::joints::{estimate_joints, JointName};
+use crate::segment::regions::{Region, Regions};
 use crate::spatial::cloud_surface::CloudSurface;
 use crate::spatial::distance::sample_surface_on_triangles;
 use crate::surface::skin::ClosedPieces;
@@ -45,6 +46,62 @@ impl DistanceMm {
     }
 }
 
+/// A model's design parameters by region (`segment::regions`: the head
+/// above the neck, the hands past the wrists, the feet below the ankles,
+/// the rest): each section counted in the region of its mean point, a
+/// part's end cap with its end section, a cavity by its sections, the
+/// transitions with the rest. They add up to [`Body::design_parameters`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RegionParameters {
+    pub head: usize,
+    pub hands: usize,
+    pub feet: usize,
+    pub rest: usize,
+}
+
+impl RegionParameters {
+    /// The parameters of `body` in `regions` (in the same frame).
+    pub fn of(body: &Body, regions: &Regions) -> RegionParameters {
+        let mut out = RegionParameters::default();
+        let parts = body.parts.iter().map(|p| &p.part);
+        for part in parts.chain(body.cavities.iter().map(|c| &c.part)) {
+            let (curves, o) = (part.curves(), part.options());
+            for (k, c) in curves.iter().enumerate() {
+                let caps = if k == 0 {
+                    o.start_cap.design_parameters()
+                } else {
+                    0
+                } + if k + 1 == curves.len() {
+                    o.end_cap.design_parameters()
+                } else {
+                    0
+                };
+                *out.at(regions.of(c.world_series().mean_point())) += c.design_parameters() + caps;
+            }
+        }
+        out.rest += body
+            .transitions
+            .iter()
+            .map(|t| t.transition.design_parameters())
+            .sum::<usize>();
+        out
+    }
+
+    fn at(&mut self, region: Region) -> &mut usize {
+        match region {
+            Region::Head => &mut self.head,
+            Region::Hands => &mut self.hands,
+            Region::Feet => &mut self.feet,
+            Region::Rest => &mut self.rest,
+        }
+    }
+
+    /// The sum over the regions.
+    pub fn total(&self) -> usize {
+        self.head + self.hands + self.feet + self.rest
+    }
+}
+
 /// How well and how compactly the model fits its input.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
@@ -52,6 +109,8 @@ pub struct Report {
     pub design_parameters: usize,
     /// The numbers its compact `.tbm` file stores ([`Body::compact_numbers`]).
     pub compact_numbers: usize,
+    /// The design parameters by region: head, hands, feet and the rest.
+    pub region_parameters: RegionParameters,
     /// The input's vertex (mesh) or point (cloud) count; the polygon
     /// baseline is `3 × input_vertices`.
     pub input_vertices: usize,
@@ -374,6 +433,7 @@ pub(super) fn measure_with(
     Ok(Report {
         design_parameters: model.design_parameters(),
         compact_numbers: model.compact_numbers(),
+        region_parameters: RegionParameters::of(model, &Regions::new(seg)),
         input_vertices: input_count,
         distance_mm: DistanceMm {
             rms: ((a.rms * a.rms + b.rms * b.rms) / 2.0).sqrt(),

@@ -158,6 +158,7 @@ mod geodesic;
 mod graph;
 pub mod joints;
 mod legs;
+pub mod regions;
 mod slices;
 mod torso;
 mod up_axis;

@@ -648,6 +648,15 @@ pub(in crate::body) fn drop_outliers(
     plan
 }
 
+/// A halfway cut's loop area lies within this factor of the smaller of
+/// its two neighbours' areas and its inverse of the larger's, or the cut
+/// is not added: a loop that shrinks or grows by more than a third between
+/// two sections a refinement apart is a wrong one (a scan's slab broken
+/// under an armpit, a chain closed across a gap, a cut meeting a nearby
+/// limb), and the sections' own test ([`drop_outliers`], ½ to 2 of the
+/// median) lets such loops through.
+const HALFWAY_AREA: Real = 0.75;
+
 /// Adaptive spacing (method.md §8.6): builds the part, then between every
 /// two consecutive sections cuts the input halfway and compares that loop
 /// with the surface's curve halfway between the sections (patch parameter
@@ -730,8 +739,9 @@ pub(in crate::body) fn refine(
                     let c =
                         cut_and_fit(cutter, name, 0.5 * (t0 + t1), opts, shoulders, None).ok()?;
                     let (a0, a1) = (cuts[i].area, cuts[i + 1].area);
-                    let plausible =
-                        c.area >= 0.5 * a0.min(a1) && c.area <= 2.0 * a0.max(a1) && !wild(&c, opts);
+                    let plausible = c.area >= HALFWAY_AREA * a0.min(a1)
+                        && c.area <= a0.max(a1) / HALFWAY_AREA
+                        && !wild(&c, opts);
                     (plausible && curve_offset(&c, input, on_clip) <= far).then_some(c)
                 })
                 .collect()

@@ -338,6 +338,19 @@ fn search(
         };
         keep(evaluate(end, 1.0), &mut best);
     }
+    outcome(best, any, first_error, goal, trials)
+}
+
+/// The search's answer: the best feasible model (`best`), else the
+/// fallback (`any`) marked not met, an error for a budget no model meets,
+/// or the first trial's error when none was built.
+fn outcome(
+    best: Option<Kept>,
+    any: Option<Kept>,
+    first_error: Option<ReconstructError>,
+    goal: Goal,
+    trials: Vec<Trial>,
+) -> Result<RateOutcome, RateError> {
     let met = best.is_some();
     let Some(((coarseness, tolerance), body, report)) = best.or(any) else {
         return Err(first_error.map_or(

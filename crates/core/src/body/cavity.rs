@@ -63,7 +63,7 @@ pub const MIN_LOOP_SHARE: Real = 0.002;
 /// A run whose largest loop is under this share of its part's loop at that
 /// level is left out: the nostrils and the eye sockets fall well below it,
 /// a mouth well above.
-pub const MIN_CAVITY_SHARE: Real = 0.1;
+pub const MIN_CAVITY_SHARE: Real = crate::segment::MIN_POCKET_SHARE;
 
 /// Fewest sections of a cavity.
 pub const MIN_SECTIONS: usize = 3;

@@ -5,4 +5,5 @@
 pub mod cloud;
 pub mod girth;
 pub mod holes;
+pub mod inlets;
 pub mod mesh;

@@ -1,0 +1,294 @@
+//! Pockets of a section loop behind a narrow mouth, bridged.
+//!
+//! Where a surface folds in through a slit into a pocket (the lips of a
+//! mesh that models the mouth's inside), a plane cut follows the fold:
+//! the loop runs in through the slit, round the pocket and out again. A
+//! trigonometric curve cannot follow that (it swings across the section)
+//! and no scanner sees into it. [`bridge_inlets`] replaces each such
+//! excursion by the straight segment across its mouth.
+//!
+//! An **inlet** is a run of the loop from point `i` to point `j` whose
+//! ends lie at most `mouth` apart and which turns *into* the loop: closed
+//! by the chord `j → i` it encloses a region (the pocket) in the sense
+//! opposite to the loop's, so cutting it off adds the pocket to the loop.
+//! Of the two runs between `i` and `j` at most one can (their signed
+//! areas add up to the loop's); a pocket's lining can be half the loop or
+//! more. The pocket must hold [`MIN_POCKET`] times the mouth's width
+//! squared: the gaps between toes or behind an ear, as deep as a few
+//! widths, stay (a curve follows them and a scanner sees into them). So
+//! do pockets under a given share of the loop's area (the fold behind an
+//! ear) and any larger than the loop (not inside the part: a slit between
+//! a limb's loop and the trunk it wraps). A
+//! protrusion (an ear, a thumb) turns the loop's way and stays. The
+//! largest pockets are taken first; one inside or overlapping a pocket
+//! already taken is skipped.
+
+use crate::geom::math::{Point2, Real};
+use crate::section::mesh::SectionLoop;
+use std::collections::HashMap;
+
+/// An inlet's pocket holds at least this many times its mouth's width
+/// squared: a pocket wider inside than its mouth (a mouth behind the
+/// lips) or a slit twenty times deeper than wide, not the gap between two
+/// toes or behind an ear, which a curve follows and a scanner sees into.
+pub const MIN_POCKET: Real = 20.0;
+
+/// `section` with every inlet whose mouth is at most `mouth` wide and
+/// whose pocket holds at least `min_share` of the loop's area replaced by
+/// its mouth's segment (module doc), and how many were bridged. The loop
+/// itself (cloned) when it has none or `mouth` is not positive.
+pub fn bridge_inlets(section: &SectionLoop, mouth: Real, min_share: Real) -> (SectionLoop, usize) {
+    let n = section.points.len();
+    if n < 4 || !(mouth > 0.0) {
+        return (section.clone(), 0);
+    }
+    let plane = section.plane_points();
+    let inlets = inlets(&plane, mouth, min_share);
+    if inlets.is_empty() {
+        return (section.clone(), 0);
+    }
+    let mut cut = vec![false; n];
+    for &(i, j) in &inlets {
+        let mut k = (i + 1) % n;
+        while k != j {
+            cut[k] = true;
+            k = (k + 1) % n;
+        }
+    }
+    let mut edges: Vec<Real> = (0..n)
+        .map(|k| section.points[k].distance(section.points[(k + 1) % n]))
+        .collect();
+    let step = crate::geom::stats::median(&mut edges)
+        .unwrap_or(0.0)
+        .max(Real::MIN_POSITIVE);
+    let mut out = Vec::with_capacity(n);
+    for k in 0..n {
+        if cut[k] {
+            continue;
+        }
+        let a = section.points[k];
+        out.push(a);
+        let next = (k + 1) % n;
+        if cut[next] {
+            // The mouth: from here to the inlet's far end, at the loop's
+            // median spacing.
+            let end = inlets
+                .iter()
+                .find(|(i, _)| *i == k)
+                .map(|&(_, j)| section.points[j])
+                .unwrap_or(a);
+            let pieces = (a.distance(end) / step).floor() as usize;
+            for s in 1..pieces {
+                out.push(a + (end - a) * (s as Real / pieces as Real));
+            }
+        }
+    }
+    let (e1, e2) = (section.frame.e1, section.frame.e2);
+    match SectionLoop::from_points(out, e1, e2) {
+        Some(l) => (l, inlets.len()),
+        None => (section.clone(), 0),
+    }
+}
+
+/// The inlets `(i, j)` of the polygon `p` (module doc; either turning sense):
+/// the run from `i` forward to `j`, both kept, wrapping past the end.
+fn inlets(p: &[Point2], mouth: Real, min_share: Real) -> Vec<(usize, usize)> {
+    let n = p.len();
+    // Prefix shoelace sums over the doubled index range,
+    // so a run wrapping past the end is one difference.
+    let at = |k: usize| p[k % n];
+    let mut cross = vec![0.0; 2 * n + 1];
+    for k in 0..2 * n {
+        let (a, b) = (at(k), at(k + 1));
+        cross[k + 1] = cross[k] + (a.x * b.y - a.y * b.x);
+    }
+    // The loop's own turning sense (its plane axes may be either way).
+    let orientation = cross[n].signum();
+    let area = 0.5 * cross[n].abs();
+    let key = |q: Point2| ((q.x / mouth).floor() as i64, (q.y / mouth).floor() as i64);
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (k, &q) in p.iter().enumerate() {
+        grid.entry(key(q)).or_default().push(k);
+    }
+    let mut found: Vec<(Real, usize, usize)> = Vec::new();
+    for (i, &a) in p.iter().enumerate() {
+        let (cx, cy) = key(a);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                let Some(cell) = grid.get(&(cx + dx, cy + dy)) else {
+                    continue;
+                };
+                for &j in cell {
+                    let chord = (p[j] - a).norm();
+                    if j == i || chord > mouth {
+                        continue;
+                    }
+                    // The run from i forward to j, closed by the chord.
+                    let end = if j > i { j } else { j + n };
+                    let b = p[j];
+                    let twice_area = cross[end] - cross[i] + (b.x * a.y - b.y * a.x);
+                    let pocket = -0.5 * twice_area * orientation;
+                    let deep = pocket >= MIN_POCKET * chord * chord;
+                    if pocket > 0.0 && deep && (min_share * area..=area).contains(&pocket) {
+                        found.push((pocket, i, j));
+                    }
+                }
+            }
+        }
+    }
+    found.sort_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
+    let mut taken = vec![false; n];
+    let mut out = Vec::new();
+    for (_, i, j) in found {
+        // The run's points, ends included, must all be free.
+        let mut k = i;
+        let mut free = true;
+        loop {
+            if taken[k] {
+                free = false;
+                break;
+            }
+            if k == j {
+                break;
+            }
+            k = (k + 1) % n;
+        }
+        if !free {
+            continue;
+        }
+        let mut k = i;
+        loop {
+            taken[k] = true;
+            if k == j {
+                break;
+            }
+            k = (k + 1) % n;
+        }
+        out.push((i, j));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::math::{Point3, Vec3};
+
+    fn section(points: &[(Real, Real)]) -> SectionLoop {
+        let pts = points
+            .iter()
+            .map(|&(x, y)| Point3::new(x, y, 0.0))
+            .collect();
+        SectionLoop::from_points(pts, Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)).unwrap()
+    }
+
+    /// A 100 × 100 square with a slit `gap` wide going `depth` in from the
+    /// middle of its top side and a 40 × 30 chamber at its bottom (a mouth
+    /// and its pocket), counter-clockwise.
+    fn mouth(gap: Real, depth: Real) -> Vec<(Real, Real)> {
+        let (l, r) = (50.0 - gap / 2.0, 50.0 + gap / 2.0);
+        let bottom = 100.0 - depth;
+        vec![
+            (0.0, 0.0),
+            (100.0, 0.0),
+            (100.0, 100.0),
+            (r, 100.0),
+            (r, bottom + 30.0),
+            (70.0, bottom + 30.0),
+            (70.0, bottom),
+            (30.0, bottom),
+            (30.0, bottom + 30.0),
+            (l, bottom + 30.0),
+            (l, 100.0),
+            (0.0, 100.0),
+        ]
+    }
+
+    #[test]
+    fn a_mouth_through_a_slit_is_closed_over() {
+        let s = section(&mouth(2.0, 80.0));
+        let (b, count) = bridge_inlets(&s, 5.0, 0.0);
+        assert_eq!(count, 1);
+        assert!((b.area - 10_000.0).abs() < 1e-9, "{}", b.area);
+        let on_square = |p: &Point3| p.x == 0.0 || p.x == 100.0 || p.y == 0.0 || p.y == 100.0;
+        assert!(b.points.iter().all(on_square));
+    }
+
+    #[test]
+    fn a_pocket_under_the_share_stays() {
+        // The pocket is 2 × 50 + 40 × 30 = 1300 of the loop's 8700.
+        let s = section(&mouth(2.0, 80.0));
+        assert_eq!(bridge_inlets(&s, 5.0, 0.14).1, 1);
+        assert_eq!(bridge_inlets(&s, 5.0, 0.16).1, 0);
+    }
+
+    #[test]
+    fn a_wide_mouth_or_a_protrusion_stays() {
+        let s = section(&mouth(12.0, 80.0));
+        assert_eq!(bridge_inlets(&s, 5.0, 0.0).1, 0);
+        // The same outline turned inside out about the slit: an ear-like
+        // flap standing out of the square's top.
+        let flap = [
+            (0.0, 0.0),
+            (100.0, 0.0),
+            (100.0, 100.0),
+            (51.0, 100.0),
+            (51.0, 150.0),
+            (70.0, 150.0),
+            (70.0, 180.0),
+            (30.0, 180.0),
+            (30.0, 150.0),
+            (49.0, 150.0),
+            (49.0, 100.0),
+            (0.0, 100.0),
+        ];
+        let s = section(&flap);
+        let (b, count) = bridge_inlets(&s, 5.0, 0.0);
+        assert_eq!(count, 0);
+        assert_eq!(b, s);
+    }
+
+    #[test]
+    fn a_shallow_notch_or_a_convex_loop_stays() {
+        // A V notch 4 wide and 6 deep.
+        let notch = [
+            (0.0, 0.0),
+            (100.0, 0.0),
+            (100.0, 100.0),
+            (52.0, 100.0),
+            (50.0, 94.0),
+            (48.0, 100.0),
+            (0.0, 100.0),
+        ];
+        assert_eq!(bridge_inlets(&section(&notch), 5.0, 0.0).1, 0);
+        // A slot 3 wide and 20 deep (the gap between two toes): 60 < 20 × 9.
+        let slot = [
+            (0.0, 0.0),
+            (100.0, 0.0),
+            (100.0, 100.0),
+            (51.5, 100.0),
+            (51.5, 80.0),
+            (48.5, 80.0),
+            (48.5, 100.0),
+            (0.0, 100.0),
+        ];
+        assert_eq!(bridge_inlets(&section(&slot), 5.0, 0.0).1, 0);
+        let circle: Vec<(Real, Real)> = (0..200)
+            .map(|k| {
+                let t = k as Real / 200.0 * std::f64::consts::TAU;
+                (50.0 * t.cos(), 50.0 * t.sin())
+            })
+            .collect();
+        assert_eq!(bridge_inlets(&section(&circle), 5.0, 0.0).1, 0);
+    }
+
+    #[test]
+    fn an_inlet_across_the_first_point_is_found() {
+        // The slit's run wraps past the polygon's start.
+        let mut pts = mouth(2.0, 80.0);
+        pts.rotate_left(6);
+        let (b, count) = bridge_inlets(&section(&pts), 5.0, 0.0);
+        assert_eq!(count, 1);
+        assert!((b.area - 10_000.0).abs() < 1e-9);
+    }
+}

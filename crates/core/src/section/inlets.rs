@@ -1,44 +1,44 @@
-//! Pockets of a section loop behind a narrow mouth, bridged.
+//! Pockets of a section loop behind a mouth, bridged.
 //!
 //! Where a surface folds in through a slit into a pocket (the lips of a
-//! mesh that models the mouth's inside), a plane cut follows the fold:
-//! the loop runs in through the slit, round the pocket and out again. A
-//! trigonometric curve cannot follow that (it swings across the section)
-//! and no scanner sees into it. [`bridge_inlets`] replaces each such
-//! excursion by the straight segment across its mouth.
+//! mesh that models the mouth's inside), a plane cut can follow the fold:
+//! the loop runs in through the slit, round the pocket and out again, a
+//! C where its neighbours are an O (a plane along a tilted head's lips
+//! meets them 40 mm apart). A trigonometric curve follows the C and the
+//! surface skinned through it cuts through the head; no scanner sees into
+//! the pocket. [`bridge_inlets`] replaces each such excursion by the
+//! straight segment across its mouth.
 //!
-//! An **inlet** is a run of the loop from point `i` to point `j` whose
-//! ends lie at most `mouth` apart and which turns *into* the loop: closed
-//! by the chord `j → i` it encloses a region (the pocket) in the sense
-//! opposite to the loop's, so cutting it off adds the pocket to the loop.
-//! Of the two runs between `i` and `j` at most one can (their signed
-//! areas add up to the loop's); a pocket's lining can be half the loop or
-//! more. The pocket must hold [`MIN_POCKET`] times the mouth's width
-//! squared: the gaps between toes or behind an ear, as deep as a few
-//! widths, stay (a curve follows them and a scanner sees into them). So
-//! do pockets under a given share of the loop's area (the fold behind an
-//! ear) and any larger than the loop (not inside the part: a slit between
-//! a limb's loop and the trunk it wraps). A
-//! protrusion (an ear, a thumb) turns the loop's way and stays. The
-//! largest pockets are taken first; one inside or overlapping a pocket
-//! already taken is skipped.
+//! An **inlet** is a run of the loop from point `i` to point `j` which
+//! turns *into* the loop: closed by the chord `j → i` it encloses a
+//! region (the pocket) in the sense opposite to the loop's, so cutting it
+//! off adds the pocket to the loop. Of the two runs between `i` and `j`
+//! at most one can (their signed areas add up to the loop's); a pocket's
+//! lining can be half the loop or more. It is bridged when the pocket
+//! holds at least [`MIN_POCKET`] times the chord squared (deeper than
+//! wide: not a concave stretch of the outline, the notch under a chin)
+//! and a given share of the loop's area, and at most the loop's area
+//! (not inside the part: a slit between a limb's loop and the trunk it
+//! wraps). Its mouth is then at most `√(area / MIN_POCKET)` wide, which
+//! bounds the pairs searched. A protrusion (an ear, a thumb) turns the
+//! loop's way and stays. The largest pockets are taken first; one inside
+//! or overlapping a pocket already taken is skipped.
 
 use crate::geom::math::{Point2, Real};
 use crate::section::mesh::SectionLoop;
 use std::collections::HashMap;
 
 /// An inlet's pocket holds at least this many times its mouth's width
-/// squared: a pocket wider inside than its mouth (a mouth behind the
-/// lips) or a slit twenty times deeper than wide, not the gap between two
-/// toes or behind an ear, which a curve follows and a scanner sees into.
-pub const MIN_POCKET: Real = 20.0;
+/// squared: a V notch six times deeper than wide, a slot three.
+pub const MIN_POCKET: Real = 3.0;
 
-/// `section` with every inlet whose mouth is at most `mouth` wide and
-/// whose pocket holds at least `min_share` of the loop's area replaced by
-/// its mouth's segment (module doc), and how many were bridged. The loop
-/// itself (cloned) when it has none or `mouth` is not positive.
-pub fn bridge_inlets(section: &SectionLoop, mouth: Real, min_share: Real) -> (SectionLoop, usize) {
+/// `section` with every inlet whose pocket holds at least `min_share` of
+/// the loop's area (and the module doc's other bounds) replaced by its
+/// mouth's segment, and how many were bridged. The loop itself (cloned)
+/// when it has none.
+pub fn bridge_inlets(section: &SectionLoop, min_share: Real) -> (SectionLoop, usize) {
     let n = section.points.len();
+    let mouth = (section.area / MIN_POCKET).sqrt();
     if n < 4 || !(mouth > 0.0) {
         return (section.clone(), 0);
     }
@@ -90,8 +90,9 @@ pub fn bridge_inlets(section: &SectionLoop, mouth: Real, min_share: Real) -> (Se
     }
 }
 
-/// The inlets `(i, j)` of the polygon `p` (module doc; either turning sense):
-/// the run from `i` forward to `j`, both kept, wrapping past the end.
+/// The inlets `(i, j)` of the polygon `p` (module doc; either turning
+/// sense) whose mouths are at most `mouth` wide: the run from `i` forward
+/// to `j`, both kept, wrapping past the end.
 fn inlets(p: &[Point2], mouth: Real, min_share: Real) -> Vec<(usize, usize)> {
     let n = p.len();
     // Prefix shoelace sums over the doubled index range,
@@ -206,28 +207,40 @@ mod tests {
 
     #[test]
     fn a_mouth_through_a_slit_is_closed_over() {
+        // The pocket, 2 × 50 + 40 × 30 = 1300, is 15 % of the loop's 8700.
         let s = section(&mouth(2.0, 80.0));
-        let (b, count) = bridge_inlets(&s, 5.0, 0.0);
+        let (b, count) = bridge_inlets(&s, 0.1);
         assert_eq!(count, 1);
         assert!((b.area - 10_000.0).abs() < 1e-9, "{}", b.area);
         let on_square = |p: &Point3| p.x == 0.0 || p.x == 100.0 || p.y == 0.0 || p.y == 100.0;
         assert!(b.points.iter().all(on_square));
+        // A mouth 12 wide: 1800 is still 12.5 times 12².
+        assert_eq!(bridge_inlets(&section(&mouth(12.0, 80.0)), 0.1).1, 1);
     }
 
     #[test]
     fn a_pocket_under_the_share_stays() {
-        // The pocket is 2 × 50 + 40 × 30 = 1300 of the loop's 8700.
         let s = section(&mouth(2.0, 80.0));
-        assert_eq!(bridge_inlets(&s, 5.0, 0.14).1, 1);
-        assert_eq!(bridge_inlets(&s, 5.0, 0.16).1, 0);
+        assert_eq!(bridge_inlets(&s, 0.14).1, 1);
+        assert_eq!(bridge_inlets(&s, 0.16).1, 0);
+        // A slot 3 wide and 20 deep (the gap between two toes): 0.6 %.
+        let slot = [
+            (0.0, 0.0),
+            (100.0, 0.0),
+            (100.0, 100.0),
+            (51.5, 100.0),
+            (51.5, 80.0),
+            (48.5, 80.0),
+            (48.5, 100.0),
+            (0.0, 100.0),
+        ];
+        assert_eq!(bridge_inlets(&section(&slot), 0.1).1, 0);
+        assert_eq!(bridge_inlets(&section(&slot), 0.0).1, 1);
     }
 
     #[test]
-    fn a_wide_mouth_or_a_protrusion_stays() {
-        let s = section(&mouth(12.0, 80.0));
-        assert_eq!(bridge_inlets(&s, 5.0, 0.0).1, 0);
-        // The same outline turned inside out about the slit: an ear-like
-        // flap standing out of the square's top.
+    fn a_protrusion_a_wide_notch_or_a_convex_loop_stays() {
+        // An ear-like flap standing out of the square's top.
         let flap = [
             (0.0, 0.0),
             (100.0, 0.0),
@@ -243,43 +256,27 @@ mod tests {
             (0.0, 100.0),
         ];
         let s = section(&flap);
-        let (b, count) = bridge_inlets(&s, 5.0, 0.0);
+        let (b, count) = bridge_inlets(&s, 0.0);
         assert_eq!(count, 0);
         assert_eq!(b, s);
-    }
-
-    #[test]
-    fn a_shallow_notch_or_a_convex_loop_stays() {
-        // A V notch 4 wide and 6 deep.
+        // A V notch 40 wide and 60 deep, 12 % of the loop: 1200 < 3 × 40².
         let notch = [
             (0.0, 0.0),
             (100.0, 0.0),
             (100.0, 100.0),
-            (52.0, 100.0),
-            (50.0, 94.0),
-            (48.0, 100.0),
+            (70.0, 100.0),
+            (50.0, 40.0),
+            (30.0, 100.0),
             (0.0, 100.0),
         ];
-        assert_eq!(bridge_inlets(&section(&notch), 5.0, 0.0).1, 0);
-        // A slot 3 wide and 20 deep (the gap between two toes): 60 < 20 × 9.
-        let slot = [
-            (0.0, 0.0),
-            (100.0, 0.0),
-            (100.0, 100.0),
-            (51.5, 100.0),
-            (51.5, 80.0),
-            (48.5, 80.0),
-            (48.5, 100.0),
-            (0.0, 100.0),
-        ];
-        assert_eq!(bridge_inlets(&section(&slot), 5.0, 0.0).1, 0);
+        assert_eq!(bridge_inlets(&section(&notch), 0.1).1, 0);
         let circle: Vec<(Real, Real)> = (0..200)
             .map(|k| {
                 let t = k as Real / 200.0 * std::f64::consts::TAU;
                 (50.0 * t.cos(), 50.0 * t.sin())
             })
             .collect();
-        assert_eq!(bridge_inlets(&section(&circle), 5.0, 0.0).1, 0);
+        assert_eq!(bridge_inlets(&section(&circle), 0.0).1, 0);
     }
 
     #[test]
@@ -287,7 +284,7 @@ mod tests {
         // The slit's run wraps past the polygon's start.
         let mut pts = mouth(2.0, 80.0);
         pts.rotate_left(6);
-        let (b, count) = bridge_inlets(&section(&pts), 5.0, 0.0);
+        let (b, count) = bridge_inlets(&section(&pts), 0.1);
         assert_eq!(count, 1);
         assert!((b.area - 10_000.0).abs() < 1e-9);
     }

@@ -15,19 +15,15 @@ use crate::section::mesh::{section_mesh, MeshSlicer, Plane, SectionLoop};
 use crate::segment::{HeightSort, PartAxis, PartCut, SegmentError, SegmentOptions, Segmentation};
 use std::sync::OnceLock;
 
-/// The widest slit a mesh head's loop is closed over, as a fraction of
-/// the stature (10 mm on 1.7 m): a cut that follows a modelled mouth's
-/// skin in through the lips takes the straight line across instead
-/// ([`bridge_inlets`]; the pocket itself is the head's cavity). Only the
-/// head has such a pocket: elsewhere a slit is the gap between two toes
-/// or between an arm and the chest, which the model follows. A cloud's
-/// slab outline is left as it is: a scanner sees no pocket behind a
-/// slit.
-pub const INLET_MOUTH: Real = 0.006;
-
-/// A pocket bridged over holds at least this share of the loop's area:
-/// the reconstruction's threshold for a cavity (a mouth well above it;
-/// the fold behind an ear, a nostril or an eye socket below).
+/// A mesh head's loop is taken with a pocket bridged
+/// ([`bridge_inlets`]) that holds at least this share of its area: a cut
+/// that follows a modelled mouth's skin in through the parted lips takes
+/// the straight line across instead (the pocket itself is the head's
+/// cavity, and this is the cavities' own threshold). The folds behind the
+/// ears, the nostrils and the eye sockets hold far less. Only the head has
+/// such a pocket: elsewhere a deep fold is the gap between two toes or
+/// between an arm and the chest, which the model follows; and a cloud's
+/// slab outline is left as it is (a scanner sees no pocket).
 pub const MIN_POCKET_SHARE: Real = 0.1;
 
 /// One loop round several of a plane's loops (toes apart): their convex
@@ -322,13 +318,12 @@ impl<'a> Cutter<'a> {
         let plane = Plane::new(p, n)?;
         let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
         let arms = self.torso_arms(part, &plane);
-        let mouth = INLET_MOUTH * seg.height;
         let loops: Vec<_> = self
             .loops(&plane, p, radius, opts, &arms)
             .into_iter()
             .map(|(l, i)| match self.body {
                 BodyGeometry::Mesh(_) if part == PartName::Head => {
-                    (bridge_inlets(&l, mouth, MIN_POCKET_SHARE).0, i)
+                    (bridge_inlets(&l, MIN_POCKET_SHARE).0, i)
                 }
                 _ => (l, i),
             })

@@ -163,7 +163,7 @@ mod slices;
 mod torso;
 mod up_axis;
 
-pub use cut::{cut_part, cut_part_along, Cutter, INLET_MOUTH, MIN_POCKET_SHARE};
+pub use cut::{cut_part, cut_part_along, Cutter, MIN_POCKET_SHARE};
 
 use crate::anatomy::{BodyFrame, BodyGeometry, Landmark, LandmarkKind, PartName};
 use crate::geom::math::{Point3, Real, Vec3};

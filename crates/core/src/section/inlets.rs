@@ -25,7 +25,7 @@
 //! or overlapping a pocket already taken is skipped.
 
 use crate::geom::math::{Point2, Real};
-use crate::section::mesh::SectionLoop;
+use crate::section::mesh::{push_between, SectionLoop};
 use std::collections::HashMap;
 
 /// An inlet's pocket holds at least this many times its mouth's width
@@ -49,18 +49,11 @@ pub fn bridge_inlets(section: &SectionLoop, min_share: Real) -> (SectionLoop, us
     }
     let mut cut = vec![false; n];
     for &(i, j) in &inlets {
-        let mut k = (i + 1) % n;
-        while k != j {
-            cut[k] = true;
-            k = (k + 1) % n;
-        }
+        run(i, j, n)
+            .filter(|&k| k != i && k != j)
+            .for_each(|k| cut[k] = true);
     }
-    let mut edges: Vec<Real> = (0..n)
-        .map(|k| section.points[k].distance(section.points[(k + 1) % n]))
-        .collect();
-    let step = crate::geom::stats::median(&mut edges)
-        .unwrap_or(0.0)
-        .max(Real::MIN_POSITIVE);
+    let step = section.median_edge();
     let mut out = Vec::with_capacity(n);
     for k in 0..n {
         if cut[k] {
@@ -68,19 +61,10 @@ pub fn bridge_inlets(section: &SectionLoop, min_share: Real) -> (SectionLoop, us
         }
         let a = section.points[k];
         out.push(a);
-        let next = (k + 1) % n;
-        if cut[next] {
-            // The mouth: from here to the inlet's far end, at the loop's
-            // median spacing.
-            let end = inlets
-                .iter()
-                .find(|(i, _)| *i == k)
-                .map(|&(_, j)| section.points[j])
-                .unwrap_or(a);
-            let pieces = (a.distance(end) / step).floor() as usize;
-            for s in 1..pieces {
-                out.push(a + (end - a) * (s as Real / pieces as Real));
-            }
+        // The mouth: from here to the inlet's far end, at the loop's
+        // median spacing.
+        if let Some(&(_, j)) = inlets.iter().find(|(i, _)| *i == k) {
+            push_between(&mut out, a, section.points[j], step);
         }
     }
     let (e1, e2) = (section.frame.e1, section.frame.e2);
@@ -142,32 +126,20 @@ fn inlets(p: &[Point2], mouth: Real, min_share: Real) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     for (_, i, j) in found {
         // The run's points, ends included, must all be free.
-        let mut k = i;
-        let mut free = true;
-        loop {
-            if taken[k] {
-                free = false;
-                break;
-            }
-            if k == j {
-                break;
-            }
-            k = (k + 1) % n;
-        }
-        if !free {
+        if run(i, j, n).any(|k| taken[k]) {
             continue;
         }
-        let mut k = i;
-        loop {
-            taken[k] = true;
-            if k == j {
-                break;
-            }
-            k = (k + 1) % n;
-        }
+        run(i, j, n).for_each(|k| taken[k] = true);
         out.push((i, j));
     }
     out
+}
+
+/// The indices of the run from `i` forward to `j` (both included) round a
+/// loop of `n` points.
+fn run(i: usize, j: usize, n: usize) -> impl Iterator<Item = usize> {
+    let len = (j + n - i) % n;
+    (0..=len).map(move |s| (i + s) % n)
 }
 
 #[cfg(test)]

@@ -233,6 +233,17 @@ impl SectionLoop {
         out
     }
 
+    /// The median length of the polygon's edges (closing edge included),
+    /// at least the smallest positive number: the spacing a new straight
+    /// side gets ([`push_between`]).
+    pub fn median_edge(&self) -> Real {
+        let n = self.points.len();
+        let mut edges: Vec<Real> = (0..n)
+            .map(|i| self.points[i].distance(self.points[(i + 1) % n]))
+            .collect();
+        median(&mut edges).unwrap_or(0.0).max(Real::MIN_POSITIVE)
+    }
+
     /// True when `p` (projected into the plane) lies inside the loop
     /// (even-odd rule).
     pub fn contains(&self, p: Point3) -> bool {
@@ -262,10 +273,7 @@ impl SectionLoop {
             return Some(self.clone());
         }
         let n = self.points.len();
-        let mut edges: Vec<Real> = (0..n)
-            .map(|i| self.points[i].distance(self.points[(i + 1) % n]))
-            .collect();
-        let step = median(&mut edges).unwrap_or(0.0).max(Real::MIN_POSITIVE);
+        let step = self.median_edge();
         let mut out: Vec<Point3> = Vec::with_capacity(n + 16);
         // The point where the kept polygon last left the half-space.
         let mut exit: Option<Point3> = None;
@@ -325,7 +333,7 @@ pub fn resample_closed(points: &[Point3], m: usize) -> Vec<Point3> {
 }
 
 /// Points strictly between `a` and `b`, about `step` apart.
-fn push_between(out: &mut Vec<Point3>, a: Point3, b: Point3, step: Real) {
+pub(crate) fn push_between(out: &mut Vec<Point3>, a: Point3, b: Point3, step: Real) {
     let k = (a.distance(b) / step).floor() as usize;
     for j in 1..k {
         out.push(a + (b - a) * (j as Real / k as Real));

@@ -42,14 +42,15 @@ VENV = os.path.join(ROOT, "target", "compactness-venv")
 PYPI = ["numpy", "matplotlib", "fast_simplification", "DracoPy"]
 
 # trigbody settings: the coarseness c of `reconstruct --target-rms` (E_a =
-# 0.01 c, E_M = 0.05 c, pruning tolerance 0.0003 c of the height; spacing
-# 0.012), c = 1 the defaults.
+# 0.01 c, E_M = 0.05 c, pruning tolerance 0.0003 c and the fingers'
+# section spacing 0.008 c of the height, at least 0.004; spacing 0.012),
+# c = 1 the defaults.
 TRIG_COARSENESS = [0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0, 6.0]
 
 
 def trig_flags(c):
     return ["--spacing", "0.012", "--ea", f"{0.01 * c:g}", "--em", f"{0.05 * c:g}",
-            "--prune", f"{0.0003 * c:g}"]
+            "--prune", f"{0.0003 * c:g}", "--digit-spacing", f"{max(0.004, 0.008 * c):g}"]
 
 
 # QEM: the share of the input's triangles kept.

@@ -40,6 +40,11 @@ pub struct FitFlags {
     /// Smoothness penalty on high harmonics (0 = plain least squares).
     #[arg(long, default_value_t = 0.0, value_parser = crate::bounds::non_negative, allow_hyphen_values = true)]
     pub smoothing: Real,
+    /// The points' scatter (standard deviation, in their units): `auto`
+    /// stops at the order that follows the shape, not the scatter (0 =
+    /// none; `sections` on a scan uses the scan's measured noise)
+    #[arg(long, default_value_t = 0.0, value_parser = crate::bounds::non_negative, allow_hyphen_values = true)]
+    pub noise: Real,
 }
 
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -113,6 +118,7 @@ impl FitFlags {
                 WeightFlag::Arc => Weighting::ArcLength,
             },
             smoothing: self.smoothing,
+            noise: self.noise,
             ..FitOptions::default()
         }
     }

@@ -91,13 +91,19 @@ pub struct BodyFlags {
     #[arg(long, default_value_t = ReconstructOptions::default().spacing,
           value_parser = crate::bounds::real_in(0.002, 0.2))]
     pub spacing: Real,
+    /// Section spacing along a finger (a mesh hand whose fingers are
+    /// apart: each finger is a part of its own), as a fraction of the
+    /// body's height.
+    #[arg(long, default_value_t = ReconstructOptions::default().digit_spacing,
+          value_parser = crate::bounds::real_in(0.004, 0.2))]
+    pub digit_spacing: Real,
     /// Drop a section where the surface skinned through the others passes
     /// its loop within this fraction of the body's height (beyond the
     /// section's own fit); 0 keeps every section.
     #[arg(long, default_value_t = ReconstructOptions::default().prune_tolerance,
           value_parser = crate::bounds::real_in(0.0, trigbody_core::MAX_PRUNE_TOLERANCE))]
     pub prune: Real,
-    /// A scan is reconstructed in this many frames (as given, then turned
+    /// A scan is reconstructed in this many frames (its own, then turned
     /// about its up axis in 15° steps) and the model nearest the scan
     /// kept; 1 reconstructs it once (faster). Meshes are reconstructed once.
     #[arg(long, default_value_t = ReconstructOptions::default().scan_frames,
@@ -121,6 +127,7 @@ impl BodyFlags {
                 UnitsFlag::Mm => Units::Millimetres,
             },
             spacing: self.spacing,
+            digit_spacing: self.digit_spacing,
             prune_tolerance: self.prune,
             scan_frames: self.scan_frames,
             ..ReconstructOptions::default()
@@ -212,7 +219,7 @@ fn table(r: &Report) -> String {
 
 fn search_lines(out: &RateOutcome, goal: Goal) -> String {
     let mut t = String::from(
-        "rate search (coarseness c: E_a, E_M and the pruning tolerance x c; then E_a, E_M x f):",
+        "rate search (coarseness c: E_a, E_M, the pruning tolerance and the digits' spacing x c; then E_a, E_M x f):",
     );
     // A trial's settings: `c 2.130`, or `c 2.130 f 1.20` in the second search.
     let at = |c: f64, f: f64| {

@@ -152,10 +152,9 @@ pub fn run(args: SectionsArgs) -> Result<()> {
         )));
     }
     let offsets = plane_offsets(&args, from, to)?;
-    let fit_opts = if is_scan {
-        scan_fit_options(&base)
-    } else {
-        base
+    let fit_opts = match &cloud_slicer {
+        Some(s) => scan_fit_options(&base, s.noise()),
+        None => base,
     };
 
     let mut table = format!(

@@ -300,3 +300,28 @@ fn an_existing_plot_is_replaced_only_with_force() {
         .success();
     assert!(std::fs::read_to_string(&plot).unwrap().contains("<svg"));
 }
+
+/// `--noise`: a circle of radius 50 scattered by 1 (deterministic, mean
+/// zero) is fitted at a low order with it and a high one without; a
+/// negative noise is refused.
+#[test]
+fn noise_keeps_the_order_to_the_shape() {
+    let text: String = (0..120)
+        .map(|i| {
+            let t = TAU * i as f64 / 120.0;
+            // A fixed pseudo-random scatter in [-1.7, 1.7] (sd about 1).
+            let e = 1.7 * ((i * 7919 % 97) as f64 / 48.0 - 1.0);
+            let r = 50.0 + e;
+            format!("{} {}\n", r * t.cos(), r * t.sin())
+        })
+        .collect();
+    let plain = fit_json(&["--smoothing", "1e-5"], &text);
+    let floored = fit_json(&["--smoothing", "1e-5", "--noise", "1"], &text);
+    let (a, b) = (
+        plain["order"].as_u64().unwrap(),
+        floored["order"].as_u64().unwrap(),
+    );
+    assert!(a >= 10, "order {a} without --noise");
+    assert!(b <= 3, "order {b} with --noise 1");
+    refused(&["--noise", "-1"], &text, "--noise");
+}

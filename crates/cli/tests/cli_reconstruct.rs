@@ -76,11 +76,15 @@ fn built_in_body_writes_model_mesh_and_report() {
         regions[0], regions[1], regions[2], regions[3]
     );
     assert!(stdout.contains(&line), "{line}: {stdout}");
-    // Six parts and the head's cavity (the built-in mesh models the
-    // inside of its mouth).
+    // Six parts, each hand's five digits (the built-in body's fingers and
+    // thumbs are apart) and the head's three cavities (the built-in mesh
+    // models the inside of its mouth and its eye sockets).
     let parts = report["parts"].as_array().unwrap();
-    assert_eq!(parts.len(), 7);
-    assert_eq!(parts[6]["name"], "head_cavity");
+    assert_eq!(parts.len(), 19);
+    assert_eq!(parts[6]["name"], "left_arm_digit_1");
+    assert_eq!(parts[15]["name"], "right_arm_digit_5");
+    assert_eq!(parts[16]["name"], "head_cavity");
+    assert_eq!(parts[18]["name"], "head_cavity_3");
     assert!(stdout.contains("head_cavity"), "{stdout}");
     let model = std::fs::read_to_string(d.join("m.json")).unwrap();
     assert!(model.contains("\"version\": 5") && model.contains("\"body\""));
@@ -105,7 +109,8 @@ fn built_in_body_writes_model_mesh_and_report() {
         (0, 0, 0),
         "{check:?}"
     );
-    assert_eq!(check.components, 2, "{check:?}");
+    // The outer shell and the voids of the mouth and the eye sockets.
+    assert_eq!(check.components, 4, "{check:?}");
     let glb = std::fs::read(d.join("m.glb")).unwrap();
     let nodes = String::from_utf8_lossy(&glb).matches("\"mesh\":").count();
     assert_eq!(nodes, 1, "one node, the closed skin");

@@ -136,6 +136,10 @@ fn resource_bounds_are_exit_2_naming_the_option_and_its_range() {
     );
     c(&["reconstruct", "--spacing", "NaN"], "--spacing");
     c(
+        &["reconstruct", "--digit-spacing", "0.001"],
+        "'--digit-spacing <DIGIT_SPACING>': must be a number in [0.004, 0.2]",
+    );
+    c(
         &["reconstruct", "--scan-frames", "0"],
         "'--scan-frames <SCAN_FRAMES>': must be a whole number in 1..=6",
     );
@@ -169,7 +173,7 @@ fn resource_bounds_are_exit_2_naming_the_option_and_its_range() {
         "--along",
     );
     assert!(!d.join("s.ply").exists() && !d.join("p.png").exists() && !d.join("m.obj").exists());
-    assert_eq!(n, 15);
+    assert_eq!(n, 16);
     // Nor a hidden temporary: only the model file is there.
     let names: Vec<String> = std::fs::read_dir(&d)
         .unwrap()
@@ -695,7 +699,14 @@ fn a_single_limb_or_a_torso_without_head_is_refused() {
             .as_array()
             .unwrap()
             .iter()
-            .filter(|p| names.contains(&p["name"].as_str().unwrap()))
+            .filter(|p| {
+                // A part with its hand's digits.
+                let name = p["name"].as_str().unwrap();
+                names.contains(&name)
+                    || name
+                        .split_once("_digit_")
+                        .is_some_and(|(arm, _)| names.contains(&arm))
+            })
             .cloned()
             .collect();
         let transitions: Vec<serde_json::Value> = m["transitions"]

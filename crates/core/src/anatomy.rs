@@ -24,6 +24,23 @@ impl BodyGeometry<'_> {
     }
 }
 
+/// A mesh or a cloud held by value (a copy moved, ordered or cut down),
+/// seen as a [`BodyGeometry`].
+#[derive(Clone, Debug)]
+pub(crate) enum OwnedGeometry {
+    Mesh(Mesh),
+    Cloud(PointCloud),
+}
+
+impl OwnedGeometry {
+    pub(crate) fn geometry(&self) -> BodyGeometry<'_> {
+        match self {
+            OwnedGeometry::Mesh(m) => BodyGeometry::Mesh(m),
+            OwnedGeometry::Cloud(c) => BodyGeometry::Cloud(c),
+        }
+    }
+}
+
 /// The body's own frame: orthonormal, right-handed (`left = up × front`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BodyFrame {

@@ -21,9 +21,10 @@
 //!
 //! 1. **Input** (`geom`): a [`Mesh`] or a [`PointCloud`], seen as a
 //!    [`BodyGeometry`]. `spatial` answers distance, visibility and
-//!    nearest-point queries on it. A mesh is reconstructed in the body's
-//!    own frame and vertex order (a [`Rigid`] motion there and back), so
-//!    the model does not depend on how the file turned or numbered it.
+//!    nearest-point queries on it. A mesh or a scan is reconstructed in
+//!    its own frame and point order (a [`Rigid`] motion there and back),
+//!    so the model does not depend on how the file turned, moved or
+//!    numbered it.
 //! 2. **Segmentation** (`segment`): the up axis, the body's frame
 //!    ([`BodyFrame`]), the landmarks and a skeleton of named parts
 //!    ([`PartName`]), from a graph of horizontal slices.
@@ -57,8 +58,8 @@ mod surface;
 
 pub use anatomy::{BodyFrame, BodyGeometry, Landmark, LandmarkKind, PartName};
 pub use body::{
-    reconstruct, reconstruct_with_progress, Body, BodyCavity, BodyPart, BodyTransition, Progress,
-    ReconstructError, ReconstructOptions, Report, SectionFit, Units, MAX_PRUNE_TOLERANCE,
+    reconstruct, reconstruct_with_progress, Body, BodyCavity, BodyDigit, BodyPart, BodyTransition,
+    Progress, ReconstructError, ReconstructOptions, Report, SectionFit, Units, MAX_PRUNE_TOLERANCE,
     MAX_SCAN_FRAMES,
 };
 pub use curve::ellipse::{fit_ellipse, EllipseFit};
@@ -109,7 +110,7 @@ pub mod internals {
     }
     /// The `curve` layer.
     pub mod curve {
-        pub use crate::curve::{ellipse, fit, lsq, order, series, trig};
+        pub use crate::curve::{ellipse, fit, lsq, noise, order, series, trig};
     }
     /// The `section` layer.
     pub mod section {

@@ -387,3 +387,68 @@ fn clockwise_input_is_reversed_and_start_follows_reference() {
     let p0 = fit.curve.plane_point(0.0);
     assert!(p0.x.abs() < 1e-9 && p0.y > 0.9, "{p0:?}");
 }
+
+/// A loop scattered by a scanner's noise: with the noise given, the order
+/// follows the shape (an ellipse with a bump, order 3) and the curve lies
+/// nearer the true loop than the points do; without it the order climbs
+/// after the scatter. A negative noise is refused.
+#[test]
+fn a_given_noise_keeps_the_order_to_the_shape() {
+    let sigma = 0.001;
+    let mut r = stream(7);
+    let truth = |t: Real| {
+        let k = 1.0 + 0.08 * (3.0 * t).cos();
+        Vec2::new(0.06 * k * t.cos(), 0.04 * k * t.sin())
+    };
+    // Uniform deviates of standard deviation sigma, along the radius.
+    let pts: Vec<Vec2> = (0..150)
+        .map(|i| {
+            let t = TAU * i as Real / 150.0;
+            let p = truth(t);
+            p * (1.0 + sigma * 3f64.sqrt() * r() / p.norm())
+        })
+        .collect();
+    let plain = FitOptions {
+        smoothing: 1e-5,
+        ..FitOptions::default()
+    };
+    let noisy = fit_loop_2d(&pts, &plain).unwrap();
+    let floored = fit_loop_2d(
+        &pts,
+        &FitOptions {
+            noise: sigma,
+            ..plain
+        },
+    )
+    .unwrap();
+    println!(
+        "order {} without the noise, {} with it (tolerances {:?})",
+        noisy.order, floored.order, floored.tolerances
+    );
+    assert!(noisy.order >= 10, "order {}", noisy.order);
+    assert!((3..=5).contains(&floored.order), "order {}", floored.order);
+    assert!(floored.met);
+    // The curve against the true loop, densely.
+    let curve = floored.curve.sample_plane(600);
+    let truth_pts: Vec<Vec2> = (0..2000).map(|i| truth(TAU * i as Real / 2000.0)).collect();
+    let centre = floored.curve.frame.origin;
+    let worst = curve
+        .iter()
+        .map(|q| {
+            let q = Vec2::new(q.x + centre.x, q.y + centre.y);
+            truth_pts
+                .iter()
+                .map(|t| (*t - q).norm())
+                .fold(Real::INFINITY, Real::min)
+        })
+        .fold(0.0, Real::max);
+    assert!(worst < sigma, "the curve strays {worst} from the true loop");
+    let bad = FitOptions {
+        noise: -1.0,
+        ..plain
+    };
+    assert!(matches!(
+        fit_loop_2d(&pts, &bad),
+        Err(FitError::BadTolerance { name: "noise", .. })
+    ));
+}

@@ -6,7 +6,7 @@ use serde_json::{json, Value};
 use thiserror::Error;
 use trigbody_core::internals::body::DistanceMm;
 use trigbody_core::{
-    Body, BodyCavity, BodyFrame, BodyPart, BodyTransition, PartName, Report, Units,
+    Body, BodyCavity, BodyDigit, BodyFrame, BodyPart, BodyTransition, PartName, Report, Units,
 };
 
 /// The name a part has in model files and GLB nodes: `torso`, `head`,
@@ -25,29 +25,58 @@ pub fn part_file_name(name: PartName) -> &'static str {
     }
 }
 
-/// The names of cavities in model files and reports, in order: the part's
-/// name and `_cavity` (`head_cavity`), numbered from the second cavity of
-/// the same part on (`head_cavity_2`).
-pub fn cavity_file_names(within: impl IntoIterator<Item = PartName>) -> Vec<String> {
+/// Each item's number among the items of the same part before it, from 0.
+fn per_part(parts: impl IntoIterator<Item = PartName>) -> Vec<(PartName, usize)> {
     let mut seen: Vec<PartName> = Vec::new();
-    within
+    parts
         .into_iter()
         .map(|p| {
             let k = seen.iter().filter(|&&q| q == p).count();
             seen.push(p);
-            match k {
-                0 => format!("{}_cavity", part_file_name(p)),
-                _ => format!("{}_cavity_{}", part_file_name(p), k + 1),
-            }
+            (p, k)
         })
         .collect()
 }
 
-/// The model of a body: its parts by name (then its cavities, each
+/// The names of cavities in model files and reports, in order: the part's
+/// name and `_cavity` (`head_cavity`), numbered from the second cavity of
+/// the same part on (`head_cavity_2`).
+pub fn cavity_file_names(within: impl IntoIterator<Item = PartName>) -> Vec<String> {
+    per_part(within)
+        .into_iter()
+        .map(|(p, k)| match k {
+            0 => format!("{}_cavity", part_file_name(p)),
+            _ => format!("{}_cavity_{}", part_file_name(p), k + 1),
+        })
+        .collect()
+}
+
+/// The names of digits in model files and reports, in order: the arm's
+/// name, `_digit_` and the digit's number on that hand from 1
+/// (`left_arm_digit_1`).
+pub fn digit_file_names(hands: impl IntoIterator<Item = PartName>) -> Vec<String> {
+    per_part(hands)
+        .into_iter()
+        .map(|(p, k)| format!("{}_digit_{}", part_file_name(p), k + 1))
+        .collect()
+}
+
+/// The arm of a digit's file name ([`digit_file_names`]).
+fn digit_hand(name: &str) -> Option<PartName> {
+    let (arm, k) = name.rsplit_once("_digit_")?;
+    k.parse::<usize>().ok().filter(|&k| k >= 1)?;
+    [PartName::LeftArm, PartName::RightArm]
+        .into_iter()
+        .find(|&a| part_file_name(a) == arm)
+}
+
+/// The model of a body: its parts by name (then its digits, named by
+/// [`digit_file_names`], then its cavities, each
 /// `cavity_of` its part, named by [`cavity_file_names`]), its frame and
 /// height, its units.
 pub fn model_of_body(body: &Body) -> Model {
     let cavity_names = cavity_file_names(body.cavities.iter().map(|c| c.within));
+    let digit_names = digit_file_names(body.digits.iter().map(|d| d.hand));
     Model {
         units: body.units.symbol().to_string(),
         body: Some(ModelBody {
@@ -65,6 +94,16 @@ pub fn model_of_body(body: &Body) -> Model {
                 part: p.part.clone(),
                 cavity_of: None,
             })
+            .chain(
+                body.digits
+                    .iter()
+                    .zip(digit_names)
+                    .map(|(d, name)| ModelPart {
+                        name,
+                        part: d.part.clone(),
+                        cavity_of: None,
+                    }),
+            )
             .chain(
                 body.cavities
                     .iter()
@@ -110,7 +149,8 @@ pub enum BodyOfModelError {
     },
     /// A part name no body has.
     #[error(
-        "part \"{0}\" is not a body part (torso, head, left_arm, right_arm, left_leg, right_leg)"
+        "part \"{0}\" is not a body part (torso, head, left_arm, right_arm, left_leg, right_leg, \
+         or an arm's digit such as left_arm_digit_1)"
     )]
     NotABodyPart(String),
     /// A transition naming something that is not a body part.
@@ -134,7 +174,7 @@ pub fn body_of_model(model: Model) -> Result<Body, BodyOfModelError> {
             .find(|k| part_file_name(*k) == n)
     };
     let mut parts = Vec::with_capacity(model.parts.len());
-    let mut cavities = Vec::new();
+    let (mut cavities, mut digits) = (Vec::new(), Vec::new());
     for p in model.parts {
         if let Some(host) = &p.cavity_of {
             let within = named(host).ok_or_else(|| BodyOfModelError::CavityHost {
@@ -143,6 +183,14 @@ pub fn body_of_model(model: Model) -> Result<Body, BodyOfModelError> {
             })?;
             cavities.push(BodyCavity {
                 within,
+                part: p.part,
+                fits: Vec::new(),
+            });
+            continue;
+        }
+        if let Some(hand) = digit_hand(&p.name) {
+            digits.push(BodyDigit {
+                hand,
                 part: p.part,
                 fits: Vec::new(),
             });
@@ -166,6 +214,7 @@ pub fn body_of_model(model: Model) -> Result<Body, BodyOfModelError> {
     }
     Ok(Body {
         transitions,
+        digits,
         cavities,
         units,
         frame: BodyFrame {
@@ -184,17 +233,20 @@ fn mm(d: &DistanceMm) -> Value {
 }
 
 /// The names of the report's parts, in order: a part's file name
-/// ([`part_file_name`]), a cavity's as in model files
-/// ([`cavity_file_names`]).
+/// ([`part_file_name`]), a digit's and a cavity's as in model files
+/// ([`digit_file_names`], [`cavity_file_names`]).
 pub fn report_part_names(report: &Report) -> Vec<String> {
     let mut cavities =
         cavity_file_names(report.parts.iter().filter(|p| p.cavity).map(|p| p.name)).into_iter();
+    let mut digits =
+        digit_file_names(report.parts.iter().filter(|p| p.digit).map(|p| p.name)).into_iter();
     report
         .parts
         .iter()
-        .map(|p| match p.cavity {
-            true => cavities.next().unwrap_or_default(),
-            false => part_file_name(p.name).to_string(),
+        .map(|p| match (p.cavity, p.digit) {
+            (true, _) => cavities.next().unwrap_or_default(),
+            (_, true) => digits.next().unwrap_or_default(),
+            _ => part_file_name(p.name).to_string(),
         })
         .collect()
 }

@@ -10,7 +10,10 @@
 //!   rotation-minimizing frame). The rotation and the in-plane offset
 //!   between the fitted frame and this one are carried by the
 //!   coefficients (an exact change of basis of the same world curve). Only
-//!   each part's first frame is stored whole (9 numbers).
+//!   each part's first frame is stored whole (9 numbers: its origin on the
+//!   grid of `step`, its axes' components on the grid of `step / ρ`, the
+//!   axes made orthonormal again on reading; version 1 stored them as
+//!   doubles, 72 bytes a part that zstd hardly shrinks).
 //! * **Quantized.** Coefficients and `h` on a uniform grid of `step`
 //!   (model units), `p`, `q` of `step / ρ` (`ρ` the largest distance of a
 //!   curve point from its section origin). Prediction is closed-loop (the
@@ -32,8 +35,9 @@ use trigbody_core::{Frame, Point3, Real, TrigCurve, Vec3};
 
 /// The first bytes of every compact model file.
 pub const TBM_MAGIC: &[u8; 3] = b"TBM";
-/// The compact format version this build writes and reads.
-pub const TBM_VERSION: u8 = 1;
+/// The compact format version this build writes (and the newest it
+/// reads; version 1, first frames as doubles, is read too).
+pub const TBM_VERSION: u8 = 2;
 /// The default quantization step, as a fraction of the body's height (or
 /// of the section origins' bounding-box diagonal): 0.035 mm on 1.73 m.
 pub const DEFAULT_RELATIVE_STEP: Real = 2e-5;
@@ -189,7 +193,9 @@ fn rebase(c: &TrigCurve, to: &Frame) -> (Vec<Real>, Vec<Real>) {
 #[derive(Default)]
 struct PartCode {
     orders: Vec<u64>,
-    first: [Real; 9],
+    /// The first frame: origin on the grid of `step`, `e1`, `e2` on the
+    /// grid of `angle`.
+    first: [i64; 9],
     pqh: Vec<[i64; 3]>,
     a: Vec<Vec<i64>>,
     b: Vec<Vec<i64>>,
@@ -207,6 +213,24 @@ fn quantize(x: Real, step: Real) -> Option<i64> {
 
 fn dequantize(q: &[i64], step: Real) -> Vec<Real> {
     q.iter().map(|&i| i as Real * step).collect()
+}
+
+/// A part's first frame from its quantized numbers (version 2): the
+/// origin, and the axes made orthonormal again (Gram-Schmidt, `e1`
+/// first).
+fn first_frame(q: &[i64; 9], s: &Steps) -> Option<Frame> {
+    let v = |i: usize, step: Real| {
+        Vec3::new(
+            q[i] as Real * step,
+            q[i + 1] as Real * step,
+            q[i + 2] as Real * step,
+        )
+    };
+    let e1 = v(3, s.angle).normalized()?;
+    let e2 = v(6, s.angle);
+    let e2 = (e2 - e1 * e2.dot(e1)).normalized()?;
+    let origin = v(0, s.step);
+    origin.is_finite().then_some(Frame { origin, e1, e2 })
 }
 
 /// The largest distance of a section's curve from its origin (upper bound
@@ -251,10 +275,18 @@ fn encode_part(
         let frame = match state {
             None => {
                 let f = c.frame;
-                for (i, v) in [f.origin, f.e1, f.e2].iter().enumerate() {
-                    code.first[3 * i..3 * i + 3].copy_from_slice(&v.to_array());
+                for (i, (v, step)) in [(f.origin, s.step), (f.e1, s.angle), (f.e2, s.angle)]
+                    .iter()
+                    .enumerate()
+                {
+                    for (j, x) in v.to_array().iter().enumerate() {
+                        code.first[3 * i + j] = quantize(*x, *step).ok_or_else(|| {
+                            unsupported("the first frame is out of range".to_string())
+                        })?;
+                    }
                 }
-                f
+                first_frame(&code.first, s)
+                    .ok_or_else(|| unsupported("a degenerate first frame".to_string()))?
             }
             Some(st) => {
                 let n = c.frame.e1.cross(c.frame.e2);
@@ -278,11 +310,7 @@ fn encode_part(
                     .ok_or_else(|| unsupported(format!("section {k}: degenerate frame")))?
             }
         };
-        let (a, b) = if k == 0 {
-            (c.a.clone(), c.b.clone())
-        } else {
-            rebase(c, &frame)
-        };
+        let (a, b) = rebase(c, &frame);
         let (qa, qb) = (q_all(&a, k)?, q_all(&b, k)?);
         let decoded = TrigCurve {
             frame,
@@ -296,8 +324,11 @@ fn encode_part(
         code.a.push(qa);
         code.b.push(qb);
         max_err = max_err.max(max_displacement(c, &decoded));
+        // The plane's offset and tilt: half a step and the normal's
+        // rounding; the first frame's three coordinates and two rounded
+        // axes (each component off by half a step) give up to √3 times.
         let tilt = if k == 0 {
-            0.0
+            3f64.sqrt() * (s.step / 2.0 + s.angle * rho)
         } else {
             s.step / 2.0 + s.angle * rho
         };
@@ -437,7 +468,7 @@ pub fn encode_tbm(model: &Model, options: &TbmOptions) -> Result<(Vec<u8>, TbmSt
         c.orders.iter().for_each(|&o| put_varint(&mut head, o));
         c.first
             .iter()
-            .for_each(|v| head.extend_from_slice(&v.to_le_bytes()));
+            .for_each(|&v| put_varint(&mut head, zigzag(v)));
     }
     let mut ints = IntStream::default();
     for c in &codes {
@@ -555,7 +586,7 @@ fn decode_part(
     cur: &mut Cursor,
     part: usize,
     orders: &[usize],
-    first: &[Real; 9],
+    first: &Frame,
     s: &Steps,
 ) -> Result<Vec<Value>, TbmError> {
     let what = format!("part {part}");
@@ -565,17 +596,12 @@ fn decode_part(
     let lens: Vec<usize> = orders.iter().map(|&j| 2 * j + 1).collect();
     let a = get_columns(cur, &lens, &what)?;
     let b = get_columns(cur, &lens, &what)?;
-    let v3 = |i: usize| Vec3::new(first[i], first[i + 1], first[i + 2]);
     let mut out = Vec::with_capacity(orders.len());
     let mut state: Option<State> = None;
     for k in 0..orders.len() {
         let bad = || corrupt(format!("part {part}, section {k}: degenerate frame"));
         let frame = match state {
-            None => Frame {
-                origin: v3(0),
-                e1: v3(3),
-                e2: v3(6),
-            },
+            None => *first,
             Some(st) => {
                 let [p, q, h] = pqh[k - 1];
                 let n = st
@@ -600,11 +626,11 @@ pub fn decode_tbm(bytes: &[u8]) -> Result<Model, TbmError> {
     if bytes.len() < 3 || &bytes[..3] != TBM_MAGIC {
         return Err(TbmError::NotTbm);
     }
-    match bytes.get(3) {
-        Some(&TBM_VERSION) => {}
+    let version = match bytes.get(3) {
+        Some(&v) if v == 1 || v == TBM_VERSION => v,
         Some(&v) => return Err(TbmError::UnknownVersion(v)),
         None => return Err(corrupt("the file ends after its first 3 bytes")),
-    }
+    };
     let mut payload = Vec::new();
     zstd::stream::read::Decoder::new(&bytes[4..])
         .map_err(|e| corrupt(format!("zstd: {e}")))?
@@ -651,12 +677,33 @@ pub fn decode_tbm(bytes: &[u8]) -> Result<Model, TbmError> {
                     .ok_or_else(|| corrupt(format!("part {i}: order {o} is over {MAX_ORDER}")))
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let mut first = [0.0; 9];
-        if count > 0 {
-            for v in first.iter_mut() {
-                *v = cur.f64(&format!("part {i}'s first frame"))?;
+        let what = format!("part {i}'s first frame");
+        let first = match (count, version) {
+            (0, _) => Frame {
+                origin: Point3::ZERO,
+                e1: Vec3::X,
+                e2: Vec3::Y,
+            },
+            (_, 1) => {
+                let mut v = [0.0; 9];
+                for x in v.iter_mut() {
+                    *x = cur.f64(&what)?;
+                }
+                let v3 = |i: usize| Vec3::new(v[i], v[i + 1], v[i + 2]);
+                Frame {
+                    origin: v3(0),
+                    e1: v3(3),
+                    e2: v3(6),
+                }
             }
-        }
+            _ => {
+                let mut q = [0i64; 9];
+                for x in q.iter_mut() {
+                    *x = cur.int(&what)?;
+                }
+                first_frame(&q, &steps).ok_or_else(|| corrupt(format!("{what} is degenerate")))?
+            }
+        };
         heads.push((orders, first));
     }
     for (i, (p, (orders, first))) in parts.iter_mut().zip(&heads).enumerate() {

@@ -38,14 +38,18 @@ fn built_in_pieces() -> (Body, Vec<Mesh>) {
 fn closed_skin_of_the_built_in_body_is_one_closed_manifold() {
     let (model, pieces) = built_in_pieces();
     let (solids, cavities) = pieces.split_at(pieces.len() - model.cavities.len());
-    assert_eq!(cavities.len(), 1, "the built-in mesh models its mouth");
+    assert_eq!(
+        cavities.len(),
+        3,
+        "the built-in mesh models its mouth and eye sockets"
+    );
     let skin = closed_skin(solids, cavities).expect("closed skin");
     let check = check_closed(&skin);
     println!("{check:?}");
     assert_eq!(check.bad_edges, 0, "{check:?}");
     assert_eq!(check.misoriented_edges, 0, "{check:?}");
     assert_eq!(check.intersecting_pairs, 0, "{check:?}");
-    // The outer shell and the mouth's void.
+    // The outer shell and a void per cavity (the mouth, the sockets).
     assert_eq!(check.components, 1 + cavities.len(), "{check:?}");
     let rays = union_volume(solids, cavities, model.frame.up, 0.001 * model.height);
     let off = check.volume / rays - 1.0;
@@ -76,7 +80,7 @@ fn local_and_whole_soup_paths_agree_on_the_built_in_body() {
         assert_eq!(c.bad_edges, 0, "{c:?}");
         assert_eq!(c.misoriented_edges, 0, "{c:?}");
         assert_eq!(c.intersecting_pairs, 0, "{c:?}");
-        assert_eq!(c.components, 2, "{c:?}");
+        assert_eq!(c.components, 1 + cavities.len(), "{c:?}");
     }
     // The same solid: the crossings are exact in both.
     assert!((lc.volume / wc.volume - 1.0).abs() < 1e-9, "{lc:?} {wc:?}");
@@ -122,4 +126,24 @@ fn regions_measure_zero_against_itself_and_a_shift_against_a_copy() {
             "{f:?}"
         );
     }
+}
+
+#[test]
+fn the_built_in_body_s_hands_have_their_fingers() {
+    // Its fingers and thumbs are apart: five digits a hand, and the hand
+    // region within the issue's 2 mm (5.3 mm as mittens; 0.90 measured
+    // on the closed skin's pieces, 100 000 samples).
+    let input = built_in();
+    let opts = ReconstructOptions::default();
+    let seg = segment(BodyGeometry::Mesh(&input), &opts.segment).expect("segment");
+    let (model, pieces) = built_in_pieces();
+    assert_eq!(model.digits.len(), 10);
+    let (solids, cavities) = pieces.split_at(pieces.len() - model.cavities.len());
+    let skin = closed_skin(solids, cavities).expect("closed skin");
+    let fits = region_fit(&input, &skin, &Regions::new(&seg), 50_000, 1000.0);
+    let hands = fits
+        .iter()
+        .find(|f| f.region == Some(Region::Hands))
+        .expect("a hands region");
+    assert!(hands.rms < 1.5 && hands.off_30 < 0.15, "{hands:?}");
 }

@@ -439,7 +439,7 @@ fn cavities_round_trip_face_inward_and_must_name_their_part() {
 /// with what is wrong.
 #[test]
 fn body_to_model_and_back() {
-    use trigbody_core::{Body, BodyCavity, BodyFrame, BodyPart, PartName, Units};
+    use trigbody_core::{Body, BodyCavity, BodyDigit, BodyFrame, BodyPart, PartName, Units};
     use trigbody_io::body_file::{body_of_model, model_of_body, BodyOfModelError};
     let part = Part::new(sections(), &PartOptions::default()).unwrap();
     let body = Body {
@@ -456,6 +456,16 @@ fn body_to_model_and_back() {
             },
         ],
         transitions: Vec::new(),
+        // Two digits of the left hand, one of the right: named by hand and
+        // number, read back to their hands.
+        digits: [PartName::LeftArm, PartName::RightArm, PartName::LeftArm]
+            .into_iter()
+            .map(|hand| BodyDigit {
+                hand,
+                part: part.clone(),
+                fits: Vec::new(),
+            })
+            .collect(),
         cavities: vec![BodyCavity {
             within: PartName::Head,
             part: part.clone(),
@@ -471,7 +481,25 @@ fn body_to_model_and_back() {
         height: 1.7,
     };
     let model = round_trip(&model_of_body(&body));
+    let names: Vec<&str> = model.parts.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "torso",
+            "head",
+            "left_arm_digit_1",
+            "right_arm_digit_1",
+            "left_arm_digit_2",
+            "head_cavity"
+        ]
+    );
     assert_eq!(body_of_model(model.clone()), Ok(body));
+    let mut stray = model.clone();
+    stray.parts[2].name = "left_leg_digit_1".into();
+    assert_eq!(
+        body_of_model(stray),
+        Err(BodyOfModelError::NotABodyPart("left_leg_digit_1".into()))
+    );
     let mut loft = model.clone();
     loft.body = None;
     assert_eq!(body_of_model(loft), Err(BodyOfModelError::NoBody));

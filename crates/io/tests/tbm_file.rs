@@ -168,3 +168,19 @@ fn a_coarser_step_gives_a_smaller_file_and_a_larger_error() {
     assert!(s4.max_error > stats.max_error);
     assert!(max_section_displacement(model, &decode_tbm(&small).unwrap()) <= s4.bound);
 }
+
+/// Version 1 files (first frames as doubles) still read: the saved seed
+/// reads, and written again (version 2, first frames on the grid) it reads
+/// back within the new file's bound.
+#[test]
+fn a_version_1_file_still_reads() {
+    let dir = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/corpus/tbm");
+    let v1 = std::fs::read(dir.join("valid_small_v1.tbm")).unwrap();
+    assert_eq!(v1[3], 1);
+    let old = decode_tbm(&v1).unwrap();
+    let (v2, stats) = encode_tbm(&old, &TbmOptions::default()).unwrap();
+    assert_eq!(v2[3], TBM_VERSION);
+    let new = decode_tbm(&v2).unwrap();
+    let worst = max_section_displacement(&old, &new);
+    assert!(worst <= stats.bound, "{worst} over {}", stats.bound);
+}

@@ -51,18 +51,22 @@ fn order_choice(order: &Bound<'_, PyAny>) -> PyResult<OrderChoice> {
 /// Fits one closed loop of points, `(N, 2)` or `(N, 3)` float64, ordered
 /// along the loop (see `trigbody.fit_curve`).
 #[pyfunction]
-#[pyo3(signature = (points, order, ea, em))]
+#[pyo3(signature = (points, order, ea, em, smoothing = 0.0, noise = 0.0))]
 fn fit_curve(
     py: Python<'_>,
     points: PyReadonlyArray2<'_, f64>,
     order: &Bound<'_, PyAny>,
     ea: Real,
     em: Real,
+    smoothing: Real,
+    noise: Real,
 ) -> PyResult<Curve> {
     let opts = FitOptions {
         order: order_choice(order)?,
         ea,
         em,
+        smoothing,
+        noise,
         ..FitOptions::default()
     };
     let view = points.as_array();

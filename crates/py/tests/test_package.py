@@ -52,6 +52,17 @@ def test_fit_curve_options_and_evaluate():
     assert dist.max() < 2 * curve.errors["max"] + 1e-9
 
 
+def test_fit_curve_noise_and_smoothing_are_the_cli_flags():
+    points = loop("calf")
+    curve = trigbody.fit_curve(points, smoothing=1e-5, noise=0.002)
+    cli = run_cli("fit", LOOPS / "calf.xyz", "--json", "--smoothing", "1e-5", "--noise", "0.002")
+    assert curve.fit_json == cli.stdout
+    # 2 mm of scatter on a calf allows a lower order than none.
+    assert curve.order < trigbody.fit_curve(points, smoothing=1e-5).order
+    with pytest.raises(ValueError, match="noise"):
+        trigbody.fit_curve(points, noise=-1)
+
+
 def test_fit_curve_2d_circle_is_order_1():
     t = np.linspace(0, 2 * np.pi, 64, endpoint=False)
     curve = trigbody.fit_curve(np.c_[0.2 * np.cos(t), 0.2 * np.sin(t)])

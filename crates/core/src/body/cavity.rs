@@ -13,16 +13,20 @@
 //!
 //! 1. **Levels.** The part (the head) is cut across the body's up axis
 //!    every [`CAVITY_SPACING`] × `H` over the run of its sections
-//!    ([`Cutter::cut_nested`]): the part's loop and the loops nested in it.
-//!    Nested loops under [`MIN_LOOP_SHARE`] of the part's loop are slivers
-//!    and left out.
+//!    ([`Cutter::cut_nested`]): the part's loop and the loops nested in it,
+//!    and the pockets bridged off the part's loop where they open through
+//!    a slit (parted lips, parted eyelids: `section::inlets`), each its
+//!    lining closed by the slit. Nested loops under [`MIN_LOOP_SHARE`] of
+//!    the part's loop are slivers and left out.
 //! 2. **Runs.** A nested loop continues the run whose last loop (one or two
 //!    levels below: the lips' slit may hide one level) contains its
 //!    centroid, or whose last centroid it contains (the nearest such run);
 //!    otherwise it starts a run.
-//! 3. **Cavities.** A run of at least [`MIN_SECTIONS`] loops whose largest
-//!    loop is at least [`MIN_CAVITY_SHARE`] of the part's loop at its level
-//!    is a cavity: its loops are fitted like the part's (the adaptive
+//! 3. **Cavities.** A run whose largest loop is at least
+//!    [`MIN_CAVITY_SHARE`] of the part's loop at its level, with at least
+//!    [`MIN_SECTIONS`] loops (a shorter run, an eye socket 10-20 mm tall,
+//!    is cut again between levels half and a quarter as far apart,
+//!    [`REFINEMENTS`]), is a cavity: its loops are fitted like the part's (the adaptive
 //!    order search, the body's front as the reference direction) and
 //!    skinned as a part; a section whose curve passes farther than
 //!    [`ReconstructOptions::refine_tolerance`] × `H` from the input (a
@@ -43,9 +47,10 @@
 //! pocket, and a cloud slab's nested outlines are not surface. A loop
 //! nested in a nested loop (a tongue or teeth left inside the mouth)
 //! bounds solid, not a pocket, and is left out; a closed shell left
-//! inside the head's solid itself (an eyeball) cuts as a nested loop like
-//! a pocket's and is taken for one when it is large enough
-//! ([`MIN_CAVITY_SHARE`]: eyeballs are not).
+//! inside the head's solid itself (an eyeball behind closed lids) cuts as
+//! a nested loop like a pocket's and is taken for one: its surface is the
+//! input's either way, only the volume's sign differs (an eyeball's 7
+//! cm³).
 
 use super::*;
 use plan::fractions;
@@ -61,9 +66,9 @@ pub const CAVITY_SPACING: Real = 0.006;
 pub const MIN_LOOP_SHARE: Real = 0.002;
 
 /// A run whose largest loop is under this share of its part's loop at that
-/// level is left out: the nostrils and the eye sockets fall well below it,
-/// a mouth well above.
-pub const MIN_CAVITY_SHARE: Real = crate::segment::MIN_POCKET_SHARE;
+/// level is left out: the head's own threshold for a pocket opening to the
+/// front (an eye socket is 2.5 % of the head's loop, a mouth 10-40 %).
+pub const MIN_CAVITY_SHARE: Real = crate::segment::MIN_FACING_POCKET_SHARE;
 
 /// Fewest sections of a cavity.
 pub const MIN_SECTIONS: usize = 3;
@@ -95,8 +100,40 @@ struct Found {
     host_area: Real,
 }
 
+/// Halvings of the level spacing tried for a run shorter than
+/// [`MIN_SECTIONS`].
+pub const REFINEMENTS: usize = 2;
+
+/// `run` with the loops continuing it at the levels `step` before its
+/// first, between its levels `2 step` apart, and `step` after its last
+/// (`nested` cuts a level), in order.
+fn refined(run: Vec<Found>, step: Real, nested: &dyn Fn(Real) -> Vec<Found>) -> Vec<Found> {
+    let mut levels: Vec<Real> = vec![run[0].at - step, run[run.len() - 1].at + step];
+    levels.extend(
+        run.windows(2)
+            .filter(|w| w[1].at - w[0].at > 1.5 * step)
+            .map(|w| 0.5 * (w[0].at + w[1].at)),
+    );
+    let mut out = run;
+    for t in levels {
+        let near = |f: &Found| (f.at - t).abs();
+        let Some(closest) = out.iter().min_by(|a, b| near(a).total_cmp(&near(b))) else {
+            continue;
+        };
+        let take = nested(t)
+            .into_iter()
+            .filter(|f| continues(&closest.outline, &f.outline))
+            .max_by(|a, b| a.outline.area.total_cmp(&b.outline.area));
+        if let Some(f) = take {
+            out.push(f);
+        }
+    }
+    out.sort_by(|a, b| a.at.total_cmp(&b.at));
+    out
+}
+
 /// Does `l` continue the run whose last loop is `last`?
-fn continues(last: &SectionLoop, l: &SectionLoop) -> bool {
+pub(super) fn continues(last: &SectionLoop, l: &SectionLoop) -> bool {
     last.contains(l.centroid) || l.contains(last.centroid)
 }
 
@@ -182,10 +219,23 @@ pub(super) fn find_cavities(
             .iter()
             .map(|f| f.outline.area / f.host_area)
             .fold(0.0, Real::max);
-        if run.len() < MIN_SECTIONS || largest < MIN_CAVITY_SHARE {
+        if largest < MIN_CAVITY_SHARE {
             continue;
         }
-        match build_cavity(cutter, within, &run, step, input, opts) {
+        // A short pocket (an eye socket, 10-20 mm tall) between levels
+        // finer until it has its sections.
+        let (mut run, mut run_step) = (run, step);
+        for _ in 0..REFINEMENTS {
+            if run.len() >= MIN_SECTIONS {
+                break;
+            }
+            run_step *= 0.5;
+            run = refined(run, run_step, &nested);
+        }
+        if run.len() < MIN_SECTIONS {
+            continue;
+        }
+        match build_cavity(cutter, within, &run, run_step, input, opts) {
             Ok(c) => out.push(c),
             Err(e) => warnings.push(format!(
                 "{within}: the cavity at {:.3}-{:.3} was left out: {e}",
@@ -195,6 +245,25 @@ pub(super) fn find_cavities(
         }
     }
     out
+}
+
+/// Where a run of loops vanishes between the axis fractions `inside` (a
+/// level with its loop: `present`) and `outside` (one without): bisected
+/// [`END_BISECTIONS`] times, the middle of the last interval.
+pub(super) fn vanishing(
+    mut inside: Real,
+    mut outside: Real,
+    present: impl Fn(Real) -> bool,
+) -> Real {
+    for _ in 0..END_BISECTIONS {
+        let mid = 0.5 * (inside + outside);
+        if present(mid) {
+            inside = mid;
+        } else {
+            outside = mid;
+        }
+    }
+    0.5 * (inside + outside)
 }
 
 /// The level (axis fraction) past the end loop `end` (at `at`) where the
@@ -209,26 +278,18 @@ fn end_fraction(
     opts: &ReconstructOptions,
 ) -> Real {
     let up = cutter.segmentation().frame.up;
-    let (mut inside, mut outside) = (at, at + dir * step);
-    for _ in 0..END_BISECTIONS {
-        let mid = 0.5 * (inside + outside);
-        let present = cutter
-            .cut_nested(within, mid, Some(up), &opts.segment)
+    vanishing(at, at + dir * step, |t| {
+        cutter
+            .cut_nested(within, t, Some(up), &opts.segment)
             .map(|(_, nested)| nested.iter().any(|l| continues(end, l)))
-            .unwrap_or(false);
-        if present {
-            inside = mid;
-        } else {
-            outside = mid;
-        }
-    }
-    0.5 * (inside + outside)
+            .unwrap_or(false)
+    })
 }
 
 /// A dome from `curve` along its plane's normal reaching the plane through
 /// `tip` parallel to it (the lowest dome, 0.02 radii, where `tip` lies in
 /// `curve`'s own plane).
-fn dome_reaching(curve: &TrigCurve, tip: Point3) -> CapKind {
+pub(super) fn dome_reaching(curve: &TrigCurve, tip: Point3) -> CapKind {
     CapKind::Dome {
         relative_height: plan::height_to_reach(curve, tip).unwrap_or(0.02),
         fullness: 1.0,
@@ -267,14 +328,7 @@ fn build_cavity(
         if off > limit {
             continue;
         }
-        fits.push(SectionFit {
-            at: f.at,
-            order: fit.order,
-            ea: fit.errors.ea,
-            em: fit.errors.em,
-            met: fit.met,
-            ellipse: fit.ellipse.as_ref().map(|e| (e.errors.ea, e.errors.em)),
-        });
+        fits.push(SectionFit::of(f.at, &fit));
         curves.push(fit.curve);
     }
     if curves.len() < 2 {
@@ -348,6 +402,7 @@ mod tests {
         // Its volume is the sphere's within 2 %, and the
         // tessellation turned inside out encloses it negatively.
         let v = crate::measure::volume::volume_area_extent(&Body {
+            digits: Vec::new(),
             cavities: Vec::new(),
             transitions: Vec::new(),
             parts: vec![BodyPart {

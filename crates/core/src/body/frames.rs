@@ -3,8 +3,8 @@
 //! A scan's segmentation and sections turn on the cells of its slab images
 //! and grids, so the same scan turned a little can give a different model
 //! (a section dropped, an arm's end or a junction chosen otherwise), and
-//! now and then a much worse one. Reconstructing it as given and turned
-//! about its up axis by [`FRAME_STEP`] steps, and keeping the model whose
+//! now and then a much worse one. Reconstructing it in its own frame and
+//! turned about its up axis by [`FRAME_STEP`] steps, and keeping the model whose
 //! distance to the input (the report's two-way RMS, what a user measures)
 //! is clearly least ([`CLEAR_GAIN`]), picks the good outcome: on the
 //! corpus scans the pick by that distance was the one nearest the truth
@@ -17,15 +17,15 @@ use crate::geom::rigid::Rigid;
 /// turn that maps an axis-aligned grid onto itself).
 pub(super) const FRAME_STEP: Real = 15.0;
 
-/// A turned frame's model replaces the as-given one only when its RMS is
+/// A turned frame's model replaces the unturned one only when its RMS is
 /// lower by more than this fraction: nearly equal distances do not say
 /// which model is better (on body_010_scan 3.56 against 3.59 mm picked a
-/// frame whose ankle lay 50 mm off), and the as-given frame is the one a
+/// frame whose ankle lay 50 mm off), and the unturned frame is the one a
 /// user can reproduce with `--scan-frames 1`.
 pub(super) const CLEAR_GAIN: Real = 0.02;
 
 /// A frame of a scan: its turn about the up axis in degrees and the
-/// motion that turns the cloud into it (`None` for the frame as given).
+/// motion that turns the cloud into it (`None` for the unturned frame).
 pub(super) type Frame = (Real, Option<Rigid>);
 
 /// The best of [`ReconstructOptions::scan_frames`] reconstructions of
@@ -37,20 +37,19 @@ pub(super) fn best_of_frames(
     opts: &ReconstructOptions,
     progress: &mut dyn FnMut(&str),
 ) -> Result<((Body, Report), Frame), ReconstructError> {
-    // The frames are turned about the as-given frame's up axis (found by
-    // its segmentation); the turned frames are reconstructed on the other
-    // cores while the as-given one reports its progress here.
+    // The cloud is in its own frame (`pose::own_pose_cloud`), whose +y is
+    // the principal axis nearest its up: the frames are turned about it,
+    // not about the up its segmentation finds (which jitters by a fraction
+    // of a degree with the slab images' pixels). The turned frames are
+    // reconstructed on the other cores while the first one reports its
+    // progress here.
     let segmented = Segmented::of(BodyGeometry::Cloud(cloud), opts, progress);
-    let up = match &segmented {
-        Ok(s) => Some(s.seg0.frame.up),
-        Err(_) => opts.segment.up,
-    };
     let n = cloud.positions.len().max(1) as Real;
     let centre = cloud.positions.iter().fold(Vec3::ZERO, |a, &p| a + p) / n;
     let turns: Vec<(Real, Rigid)> = (1..opts.scan_frames)
         .map_while(|k| {
             let angle = k as Real * FRAME_STEP;
-            let turn = Rigid::turn_about(centre, up?, angle.to_radians())?;
+            let turn = Rigid::turn_about(centre, Vec3::Y, angle.to_radians())?;
             Some((angle, turn))
         })
         .collect();

@@ -9,19 +9,21 @@
 //! numbered it: the model of a rotated mesh is the rotated model, with
 //! the same design parameters.
 //!
-//! A scan is not moved: its segmentation still turns on the pixels of its
-//! slab images (a shift of a fraction of a millimetre moves the front
-//! found from the feet by a degree), so a fixed frame would only pick one
-//! of those outcomes for every scan rather than make them agree.
-//! [`Body::moved`] takes a model back, rebuilt from its moved sections as
+//! A scan is moved too, into a frame whose horizontal axes are its
+//! points' principal axes ([`own_pose_cloud`]): its segmentation turns on
+//! the pixels of its slab images, and the front found from the feet
+//! moves by a degree under a sub-millimetre shift, so that front only
+//! signs the axes. [`Body::moved`] takes a model back, rebuilt from its moved sections as
 //! a model file rebuilds it.
 
 use super::{
-    Body, BodyCavity, BodyPart, BodyTransition, ReconstructError, ReconstructOptions, Report, Units,
+    Body, BodyCavity, BodyDigit, BodyPart, BodyTransition, ReconstructError, ReconstructOptions,
+    Report, Units,
 };
-use crate::anatomy::{BodyGeometry, PartName};
+use crate::anatomy::{BodyGeometry, OwnedGeometry, PartName};
 use crate::geom::holes::{close_holes, ClosedHoles};
-use crate::geom::math::{Point3, Real};
+use crate::geom::linalg::principal;
+use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
 use crate::geom::rigid::Rigid;
 use crate::segment::segment;
@@ -30,19 +32,89 @@ use crate::surface::part::Part;
 use crate::surface::transition::{Seam, SideCut, Transition};
 use std::borrow::Cow;
 
+/// The input as given, prepared and segmented: what its own frame is
+/// found from.
+fn segmented_as_given(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+) -> Result<crate::segment::Segmentation, ReconstructError> {
+    let prepared = Prepared::of(body, opts);
+    Ok(segment(
+        prepared.geometry(),
+        &prepared.options(opts).segment,
+    )?)
+}
+
 /// The mesh moved into the body's own frame (found by segmenting it as
 /// given) and order, and the motion that did it.
 pub(super) fn own_pose(
     mesh: &Mesh,
     opts: &ReconstructOptions,
 ) -> Result<(Mesh, Rigid), ReconstructError> {
-    let prepared = Prepared::of(BodyGeometry::Mesh(mesh), opts);
-    let seg = segment(prepared.geometry(), &prepared.options(opts).segment)?;
+    let seg = segmented_as_given(BodyGeometry::Mesh(mesh), opts)?;
     let into = seg
         .frame
         .into_own_axes()
         .ok_or(ReconstructError::Frame { frame: seg.frame })?;
     Ok((in_own_frame(mesh, &into, seg.height), into))
+}
+
+/// A scan moved into a frame of its own and ordered, and the motion that
+/// did it: origin the centroid of all its points, axes their principal
+/// axes, the one nearest the up found by segmenting the cleaned scan as
+/// +y, the one of the others nearest its left (or front) as +x (or +z),
+/// each signed by those. The centroid and the axes are sums over the raw
+/// points, so they turn and move with the scan to rounding, whatever the
+/// cleaning or the slab images' pixels did; the found up, left and front
+/// (a degree's jitter under a sub-millimetre shift) only choose among
+/// them. The steps find the body's own up again in this frame.
+pub(super) fn own_pose_cloud(
+    cloud: &PointCloud,
+    opts: &ReconstructOptions,
+) -> Result<(PointCloud, Rigid), ReconstructError> {
+    let seg = segmented_as_given(BodyGeometry::Cloud(cloud), opts)?;
+    let frame_error = || ReconstructError::Frame { frame: seg.frame };
+    let (centre, _, axes) = principal(&cloud.positions);
+    let nearest = |v: Vec3, among: &[Vec3]| {
+        among
+            .iter()
+            .map(|&a| a * a.dot(v).signum())
+            .max_by(|a, b| a.dot(v).total_cmp(&b.dot(v)))
+    };
+    let up = nearest(seg.frame.up, &axes).ok_or_else(frame_error)?;
+    let across: Vec<Vec3> = axes
+        .iter()
+        .copied()
+        .filter(|a| *a != up && *a != -up)
+        .collect();
+    let (left, front) = (seg.frame.left, seg.frame.front);
+    let x = match (nearest(left, &across), nearest(front, &across)) {
+        (Some(l), Some(f)) if l.dot(left) >= f.dot(front) => l,
+        (_, Some(f)) => up.cross(f),
+        _ => return Err(frame_error()),
+    };
+    let into = Rigid::into_axes(centre, x, up).ok_or_else(frame_error)?;
+    let moved = into.cloud(cloud);
+    let order = sorted_order(&moved.positions, ORDER_QUANTUM * seg.height);
+    let moved = PointCloud {
+        positions: permuted(&moved.positions, &order),
+        normals: moved.normals.as_ref().map(|v| permuted(v, &order)),
+    };
+    Ok((moved, into))
+}
+
+/// The input moved into its own frame and order ([`own_pose`],
+/// [`own_pose_cloud`]) and the motion that did it.
+pub(super) fn own_frame(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+) -> Result<(OwnedGeometry, Rigid), ReconstructError> {
+    match body {
+        BodyGeometry::Mesh(mesh) => own_pose(mesh, opts).map(|(m, r)| (OwnedGeometry::Mesh(m), r)),
+        BodyGeometry::Cloud(cloud) => {
+            own_pose_cloud(cloud, opts).map(|(c, r)| (OwnedGeometry::Cloud(c), r))
+        }
+    }
 }
 
 /// The input as the steps see it: a scan without its floor and strays, a
@@ -73,21 +145,25 @@ impl<'a> Prepared<'a> {
         }
     }
 
-    /// The input as the steps see it, `own` its copy in the body's own
-    /// frame (a mesh's, [`own_pose`]), with the options for it: up is the
-    /// frame's +y and a given front turned with it, or a scan's floor
-    /// normal ([`Prepared::options`]).
+    /// The input as the steps see it, `own` its copy in its own frame
+    /// ([`own_frame`]), with the options for it: a mesh's up is the frame's
+    /// +y, a scan's a given up turned with it, else its floor's normal
+    /// ([`Prepared::options`]) or the one its segmentation finds; a given
+    /// front turned with it.
     pub(super) fn in_own_frame(
         input: BodyGeometry<'a>,
-        own: Option<&'a (Mesh, Rigid)>,
+        own: Option<&'a (OwnedGeometry, Rigid)>,
         opts: &ReconstructOptions,
     ) -> (Prepared<'a>, ReconstructOptions) {
         let mut own_opts = *opts;
-        if let Some((_, into)) = own {
-            own_opts.segment.up = Some(crate::geom::math::Vec3::Y);
+        if let Some((own, into)) = own {
+            own_opts.segment.up = match own {
+                OwnedGeometry::Mesh(_) => Some(Vec3::Y),
+                OwnedGeometry::Cloud(_) => opts.segment.up.map(|u| into.vector(u)),
+            };
             own_opts.segment.front = opts.segment.front.map(|f| into.vector(f));
         }
-        let prepared = Prepared::of(own.map_or(input, |o| BodyGeometry::Mesh(&o.0)), &own_opts);
+        let prepared = Prepared::of(own.map_or(input, |o| o.0.geometry()), &own_opts);
         let own_opts = prepared.options(&own_opts);
         (prepared, own_opts)
     }
@@ -132,7 +208,7 @@ impl<'a> Prepared<'a> {
 }
 
 impl Body {
-    /// The body moved by `m`: its frame, and its parts, cavities and
+    /// The body moved by `m`: its frame, and its parts, digits, cavities and
     /// transitions rebuilt from their moved sections and specifications as
     /// a model file rebuilds them (written and read back, the moved body is
     /// the same body).
@@ -160,6 +236,17 @@ impl Body {
                     within: c.within,
                     part: part(c.within, &c.part)?,
                     fits: c.fits.clone(),
+                })
+            })
+            .collect::<Result<Vec<_>, ReconstructError>>()?;
+        let digits = self
+            .digits
+            .iter()
+            .map(|d| {
+                Ok(BodyDigit {
+                    hand: d.hand,
+                    part: part(d.hand, &d.part)?,
+                    fits: d.fits.clone(),
                 })
             })
             .collect::<Result<Vec<_>, ReconstructError>>()?;
@@ -200,6 +287,7 @@ impl Body {
             height: self.height,
             parts,
             transitions,
+            digits,
             cavities,
         })
     }

@@ -6,9 +6,11 @@
 //! One coarseness `c` scales the pipeline's tolerances together:
 //! `E_a = c·E_a⁰`, `E_M = c·E_M⁰`, the pruning tolerance (a section goes
 //! where its neighbours' skinning passes its loop within it,
-//! `plan/prune.rs`) and the refinement tolerance by `c` (`c = 1` is the
-//! given options; the spacing stays, as the pruning takes out the sections
-//! the surface does not need). A search on `log c` (a reconstruction per
+//! `plan/prune.rs`), the refinement tolerance and the digits' section
+//! spacing by `c` (`c = 1` is the given options; the parts' spacing stays,
+//! as the pruning takes out the sections the surface does not need; a
+//! finger is too short for the pruning, which keeps three sections at
+//! each end). A search on `log c` (a reconstruction per
 //! trial) finds the coarsest model that meets the target RMS, or the
 //! finest within the parameter budget, shrinking a bracket: each trial's
 //! coarseness is where the line through the bracket's measured ends (log
@@ -123,6 +125,7 @@ pub fn coarsened(base: &ReconstructOptions, c: Real) -> ReconstructOptions {
     o.fit.em = base.fit.em * c;
     o.prune_tolerance = (base.prune_tolerance * c).min(crate::body::MAX_PRUNE_TOLERANCE);
     o.refine_tolerance = base.refine_tolerance * c;
+    o.digit_spacing = base.digit_spacing * c;
     o
 }
 

@@ -10,7 +10,7 @@
 //! the trials differ in their tolerances only, not in a frame picked anew.
 
 use super::frames::{best_of_frames, turned_back, turned_options};
-use super::pose::{own_pose, Prepared};
+use super::pose::{own_frame, Prepared};
 use super::*;
 
 /// A reconstruction at given options, as [`reconstruct`] gives it.
@@ -43,12 +43,9 @@ pub(crate) fn reconstruct_each<R>(
     if check_options(base).is_err() {
         return search(&mut fresh);
     }
-    let own = match body {
-        BodyGeometry::Mesh(mesh) => match own_pose(mesh, base) {
-            Ok(own) => Some(own),
-            Err(_) => return search(&mut fresh),
-        },
-        BodyGeometry::Cloud(_) => None,
+    let own = match own_frame(body, base) {
+        Ok(own) => Some(own),
+        Err(_) => return search(&mut fresh),
     };
     let into = own.as_ref().map(|o| &o.1);
     let (prepared, own_base) = Prepared::in_own_frame(body, own.as_ref(), base);

@@ -14,6 +14,8 @@ pub struct PartReport {
     pub name: PartName,
     /// True for a cavity ([`BodyCavity`]) of the part `name`.
     pub cavity: bool,
+    /// True for a digit ([`BodyDigit`]) of the arm `name`'s hand.
+    pub digit: bool,
     pub sections: usize,
     /// Orders used: minimum, median, maximum.
     pub orders: (usize, usize, usize),
@@ -63,8 +65,7 @@ impl RegionParameters {
     /// The parameters of `body` in `regions` (in the same frame).
     pub fn of(body: &Body, regions: &Regions) -> RegionParameters {
         let mut out = RegionParameters::default();
-        let parts = body.parts.iter().map(|p| &p.part);
-        for part in parts.chain(body.cavities.iter().map(|c| &c.part)) {
+        for part in body.solids().chain(body.cavities.iter().map(|c| &c.part)) {
             let (curves, o) = (part.curves(), part.options());
             for (k, c) in curves.iter().enumerate() {
                 let caps = if k == 0 {
@@ -181,14 +182,22 @@ impl Report {
 
 /// The per-part numbers of a body.
 pub fn part_reports(body: &Body) -> Vec<PartReport> {
-    let parts = body.parts.iter().map(|p| (p.name, false, &p.part, &p.fits));
+    let parts = body
+        .parts
+        .iter()
+        .map(|p| (p.name, false, false, &p.part, &p.fits));
+    let digits = body
+        .digits
+        .iter()
+        .map(|d| (d.hand, false, true, &d.part, &d.fits));
     let cavities = body
         .cavities
         .iter()
-        .map(|c| (c.within, true, &c.part, &c.fits));
+        .map(|c| (c.within, true, false, &c.part, &c.fits));
     parts
+        .chain(digits)
         .chain(cavities)
-        .map(|(name, cavity, part, fits)| {
+        .map(|(name, cavity, digit, part, fits)| {
             let mut orders: Vec<usize> = fits.iter().map(|f| f.order).collect();
             orders.sort_unstable();
             let med = orders.get(orders.len() / 2).copied().unwrap_or(0);
@@ -196,6 +205,7 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
             PartReport {
                 name,
                 cavity,
+                digit,
                 sections: fits.len(),
                 orders: (
                     orders.first().copied().unwrap_or(0),

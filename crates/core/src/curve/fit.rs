@@ -20,6 +20,7 @@ use crate::curve::ellipse::{fit_ellipse, principal_axes, EllipseFit};
 use crate::curve::lsq::{
     fit_equally_spaced, is_equally_spaced, Coefficients, FitErrors, LoopFitter,
 };
+use crate::curve::noise::noise_tolerances;
 use crate::curve::order::{
     best_evaluated, minimal_order, paper_search, ErrorCache, OrderOptions, DEFAULT_MAX_ORDER,
 };
@@ -102,6 +103,12 @@ pub struct FitOptions {
     /// on the harmonics' amplitudes (a penalty on the curve's second
     /// derivative), which bridges gaps in scanned loops smoothly. Default 0.
     pub smoothing: Real,
+    /// The points' scatter across the loop (a scanner's noise), in their
+    /// units: the automatic order's tolerances are raised to what this
+    /// noise alone gives ([`crate::curve::noise`]), so a scanned loop's
+    /// order follows its shape and not its scatter. Default 0 (a mesh's
+    /// section has none).
+    pub noise: Real,
 }
 
 impl Default for FitOptions {
@@ -118,6 +125,7 @@ impl Default for FitOptions {
             max_plane_deviation: 0.05,
             allow_non_planar: false,
             smoothing: 0.0,
+            noise: 0.0,
         }
     }
 }
@@ -175,7 +183,8 @@ pub struct LoopFit {
     pub errors: FitErrors,
     /// True when `errors` meet both tolerances.
     pub met: bool,
-    /// The tolerances `(E_a, E_M)` the fit was judged against.
+    /// The tolerances `(E_a, E_M)` the fit was judged against (the
+    /// options', raised to what [`FitOptions::noise`] gives).
     pub tolerances: (Real, Real),
     /// The orders the paper's interpolation search tried, in order.
     pub orders_tried: Vec<usize>,
@@ -347,11 +356,10 @@ fn check_options(opts: &FitOptions) -> Result<(), FitError> {
             return Err(FitError::BadTolerance { name, value });
         }
     }
-    if !(opts.smoothing >= 0.0 && opts.smoothing.is_finite()) {
-        return Err(FitError::BadTolerance {
-            name: "smoothing",
-            value: opts.smoothing,
-        });
+    for (name, value) in [("smoothing", opts.smoothing), ("noise", opts.noise)] {
+        if !(value >= 0.0 && value.is_finite()) {
+            return Err(FitError::BadTolerance { name, value });
+        }
     }
     if opts.order == OrderChoice::Fixed(0) {
         return Err(FitError::ZeroOrder);
@@ -732,6 +740,14 @@ fn fit_plane_points(
         Weighting::Uniform => None,
         Weighting::ArcLength => Some(arc_weights(&q, |p, r| (*p - *r).norm(), opts.weighting))
             .filter(|w| w.iter().any(|x| (x - 1.0).abs() > 1e-12)),
+    };
+    let floored;
+    let opts = if opts.noise > 0.0 && opts.order == OrderChoice::Auto {
+        let (ea, em) = noise_tolerances(&q, opts.noise, opts.ea, opts.em);
+        floored = FitOptions { ea, em, ..*opts };
+        &floored
+    } else {
+        opts
     };
     let search = search_order(&q, &params, weights.as_deref(), opts)?;
     let OrderSearch {

@@ -5,6 +5,7 @@
 pub mod ellipse;
 pub mod fit;
 pub mod lsq;
+pub mod noise;
 pub mod order;
 pub mod series;
 pub mod trig;

@@ -160,12 +160,16 @@ impl Vec3 {
         [self.x, self.y, self.z]
     }
     /// A unit vector perpendicular to `self` (which need not be unit length);
-    /// chosen from the coordinate axis least aligned with `self`.
+    /// chosen from the coordinate axis least aligned with `self`, the first
+    /// of axes aligned alike to within 1e-9 of `self`'s largest component
+    /// (an up of `(-2e-15, 1, 3e-15)` takes X as `(0, 1, 0)` does, not the
+    /// axis its rounding happens to favour).
     pub fn any_perpendicular(self) -> Vec3 {
         let a = Vec3::new(self.x.abs(), self.y.abs(), self.z.abs());
-        let helper = if a.x <= a.y && a.x <= a.z {
+        let tie = 1e-9 * a.x.max(a.y).max(a.z);
+        let helper = if a.x <= a.y + tie && a.x <= a.z + tie {
             Vec3::X
-        } else if a.y <= a.z {
+        } else if a.y <= a.z + tie {
             Vec3::Y
         } else {
             Vec3::Z
@@ -262,6 +266,14 @@ mod tests {
         assert_eq!(Vec3::X.cross(Vec3::Y), Vec3::Z);
         assert_eq!(Vec3::Y.cross(Vec3::Z), Vec3::X);
         assert_eq!(Vec2::new(1.0, 0.0).cross(Vec2::new(0.0, 1.0)), 1.0);
+    }
+
+    #[test]
+    fn any_perpendicular_ignores_rounding() {
+        let p = Vec3::new(-2.4e-15, 1.0, 2.9e-15).any_perpendicular();
+        let q = Vec3::new(2.9e-15, 1.0, -2.4e-15).any_perpendicular();
+        assert!((p - Vec3::Y.any_perpendicular()).norm() < 1e-12, "{p:?}");
+        assert!((q - Vec3::Y.any_perpendicular()).norm() < 1e-12, "{q:?}");
     }
 
     #[test]

@@ -943,6 +943,7 @@ mod tests {
         Body {
             units: Units::Metres,
             transitions: Vec::new(),
+            digits: Vec::new(),
             cavities: Vec::new(),
             frame: BodyFrame {
                 up: Vec3::Y,

@@ -23,8 +23,14 @@
 //! bounds the pairs searched. A protrusion (an ear, a thumb) turns the
 //! loop's way and stays. The largest pockets are taken first; one inside
 //! or overlapping a pocket already taken is skipped.
+//!
+//! An [`InletRule`] may also take smaller, shallower pockets whose mouth
+//! opens towards a given direction ([`Facing`]: a head's eye sockets open
+//! to the front, the folds at its ears sideways or back). The pockets
+//! bridged are returned too, each its lining closed by its mouth: the
+//! caller may line them (a head's cavities).
 
-use crate::geom::math::{Point2, Real};
+use crate::geom::math::{Point2, Real, Vec2, Vec3};
 use crate::section::mesh::{push_between, SectionLoop};
 use std::collections::HashMap;
 
@@ -32,20 +38,58 @@ use std::collections::HashMap;
 /// squared: a V notch six times deeper than wide, a slot three.
 pub const MIN_POCKET: Real = 3.0;
 
-/// `section` with every inlet whose pocket holds at least `min_share` of
-/// the loop's area (and the module doc's other bounds) replaced by its
-/// mouth's segment, and how many were bridged. The loop itself (cloned)
-/// when it has none.
-pub fn bridge_inlets(section: &SectionLoop, min_share: Real) -> (SectionLoop, usize) {
+/// Which pockets [`bridge_inlets`] bridges besides the module doc's
+/// bounds: those holding at least `min_share` of the loop's area, and,
+/// when `facing` is given, also those holding at least its `min_share`
+/// whose mouth faces its direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InletRule {
+    pub min_share: Real,
+    pub facing: Option<Facing>,
+}
+
+/// Smaller pockets bridged where their mouth opens towards `dir` (within
+/// [`FACING_COS`]: the direction from the pocket's centroid to its mouth's
+/// middle, in the loop's plane): at least `min_share` of the loop, and
+/// `min_pocket` (instead of [`MIN_POCKET`]) times the mouth's width
+/// squared.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Facing {
+    pub dir: Vec3,
+    pub min_share: Real,
+    pub min_pocket: Real,
+}
+
+/// A mouth faces a direction within 45°.
+pub const FACING_COS: Real = std::f64::consts::FRAC_1_SQRT_2;
+
+/// `section` with every inlet whose pocket `rule` takes (and the module
+/// doc's other bounds) replaced by its mouth's segment, and the pockets
+/// bridged (each its run of the loop, closed by the mouth). The loop
+/// itself (cloned) when it has none.
+pub fn bridge_inlets(section: &SectionLoop, rule: &InletRule) -> (SectionLoop, Vec<SectionLoop>) {
     let n = section.points.len();
-    let mouth = (section.area / MIN_POCKET).sqrt();
+    let depth = rule
+        .facing
+        .map_or(MIN_POCKET, |f| f.min_pocket.min(MIN_POCKET));
+    let mouth = (section.area / depth).sqrt();
     if n < 4 || !(mouth > 0.0) {
-        return (section.clone(), 0);
+        return (section.clone(), Vec::new());
     }
     let plane = section.plane_points();
-    let inlets = inlets(&plane, mouth, min_share);
+    // The facing direction in the loop's plane, when it has one there.
+    let facing = rule.facing.and_then(|f| {
+        let (e1, e2) = (section.frame.e1, section.frame.e2);
+        let d = Vec2::new(f.dir.dot(e1), f.dir.dot(e2));
+        (d.norm() > 0.5 * f.dir.norm()).then(|| (d / d.norm(), f.min_share, f.min_pocket))
+    });
+    let shares = Shares {
+        min_share: rule.min_share,
+        facing,
+    };
+    let inlets = inlets(&plane, mouth, &shares);
     if inlets.is_empty() {
-        return (section.clone(), 0);
+        return (section.clone(), Vec::new());
     }
     let mut cut = vec![false; n];
     for &(i, j) in &inlets {
@@ -68,25 +112,47 @@ pub fn bridge_inlets(section: &SectionLoop, min_share: Real) -> (SectionLoop, us
         }
     }
     let (e1, e2) = (section.frame.e1, section.frame.e2);
-    match SectionLoop::from_points(out, e1, e2) {
-        Some(l) => (l, inlets.len()),
-        None => (section.clone(), 0),
-    }
+    let Some(bridged) = SectionLoop::from_points(out, e1, e2) else {
+        return (section.clone(), Vec::new());
+    };
+    let pockets = inlets
+        .iter()
+        .filter_map(|&(i, j)| {
+            let lining: Vec<_> = run(i, j, n).map(|k| section.points[k]).collect();
+            SectionLoop::from_points(lining, e1, e2)
+        })
+        .collect();
+    (bridged, pockets)
+}
+
+/// [`InletRule`] in a loop's plane: the facing direction a unit vector.
+struct Shares {
+    min_share: Real,
+    /// The direction, its share and its depth ratio.
+    facing: Option<(Vec2, Real, Real)>,
 }
 
 /// The inlets `(i, j)` of the polygon `p` (module doc; either turning
 /// sense) whose mouths are at most `mouth` wide: the run from `i` forward
 /// to `j`, both kept, wrapping past the end.
-fn inlets(p: &[Point2], mouth: Real, min_share: Real) -> Vec<(usize, usize)> {
+fn inlets(p: &[Point2], mouth: Real, shares: &Shares) -> Vec<(usize, usize)> {
     let n = p.len();
-    // Prefix shoelace sums over the doubled index range,
-    // so a run wrapping past the end is one difference.
+    // Prefix shoelace sums (and the first moments the centroid needs) over
+    // the doubled index range, so a run wrapping past the end is one
+    // difference.
     let at = |k: usize| p[k % n];
     let mut cross = vec![0.0; 2 * n + 1];
+    let mut moment = vec![Vec2::ZERO; 2 * n + 1];
     for k in 0..2 * n {
         let (a, b) = (at(k), at(k + 1));
-        cross[k + 1] = cross[k] + (a.x * b.y - a.y * b.x);
+        let c = a.x * b.y - a.y * b.x;
+        cross[k + 1] = cross[k] + c;
+        moment[k + 1] = moment[k] + (a + b) * c;
     }
+    let min_share = shares
+        .facing
+        .map_or(shares.min_share, |f| f.1.min(shares.min_share));
+    let min_pocket = shares.facing.map_or(MIN_POCKET, |f| f.2.min(MIN_POCKET));
     // The loop's own turning sense (its plane axes may be either way).
     let orientation = cross[n].signum();
     let area = 0.5 * cross[n].abs();
@@ -111,10 +177,26 @@ fn inlets(p: &[Point2], mouth: Real, min_share: Real) -> Vec<(usize, usize)> {
                     // The run from i forward to j, closed by the chord.
                     let end = if j > i { j } else { j + n };
                     let b = p[j];
-                    let twice_area = cross[end] - cross[i] + (b.x * a.y - b.y * a.x);
+                    let closing = b.x * a.y - b.y * a.x;
+                    let twice_area = cross[end] - cross[i] + closing;
                     let pocket = -0.5 * twice_area * orientation;
-                    let deep = pocket >= MIN_POCKET * chord * chord;
-                    if pocket > 0.0 && deep && (min_share * area..=area).contains(&pocket) {
+                    let squared = chord * chord;
+                    let deep = pocket >= min_pocket * squared;
+                    if !(pocket > 0.0 && deep && (min_share * area..=area).contains(&pocket)) {
+                        continue;
+                    }
+                    let taken = (pocket >= shares.min_share * area
+                        && pocket >= MIN_POCKET * squared)
+                        || shares.facing.is_some_and(|(dir, share, depth)| {
+                            // From the pocket's centroid to its mouth.
+                            let centroid =
+                                (moment[end] - moment[i] + (b + a) * closing) / (3.0 * twice_area);
+                            let out = (a + b) * 0.5 - centroid;
+                            pocket >= share * area
+                                && pocket >= depth * squared
+                                && out.dot(dir) >= FACING_COS * out.norm()
+                        });
+                    if taken {
                         found.push((pocket, i, j));
                     }
                 }
@@ -147,6 +229,15 @@ mod tests {
     use super::*;
     use crate::geom::math::{Point3, Vec3};
 
+    /// Pockets holding at least `min_share` of the loop, whichever way
+    /// they open.
+    fn share(min_share: Real) -> InletRule {
+        InletRule {
+            min_share,
+            facing: None,
+        }
+    }
+
     fn section(points: &[(Real, Real)]) -> SectionLoop {
         let pts = points
             .iter()
@@ -155,46 +246,63 @@ mod tests {
         SectionLoop::from_points(pts, Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)).unwrap()
     }
 
-    /// A 100 × 100 square with a slit `gap` wide going `depth` in from the
-    /// middle of its top side and a 40 × 30 chamber at its bottom (a mouth
+    /// A 100 × 100 square with a slit `gap` wide going `neck` in from the
+    /// middle of its top side into a `width` × `height` chamber (a mouth
     /// and its pocket), counter-clockwise.
-    fn mouth(gap: Real, depth: Real) -> Vec<(Real, Real)> {
+    fn slit(gap: Real, neck: Real, width: Real, height: Real) -> Vec<(Real, Real)> {
         let (l, r) = (50.0 - gap / 2.0, 50.0 + gap / 2.0);
-        let bottom = 100.0 - depth;
+        let (cl, cr) = (50.0 - width / 2.0, 50.0 + width / 2.0);
+        let (top, bottom) = (100.0 - neck, 100.0 - neck - height);
         vec![
             (0.0, 0.0),
             (100.0, 0.0),
             (100.0, 100.0),
             (r, 100.0),
-            (r, bottom + 30.0),
-            (70.0, bottom + 30.0),
-            (70.0, bottom),
-            (30.0, bottom),
-            (30.0, bottom + 30.0),
-            (l, bottom + 30.0),
+            (r, top),
+            (cr, top),
+            (cr, bottom),
+            (cl, bottom),
+            (cl, top),
+            (l, top),
             (l, 100.0),
             (0.0, 100.0),
         ]
+    }
+
+    /// [`slit`] `depth` deep to the bottom of a 40 × 30 chamber.
+    fn mouth(gap: Real, depth: Real) -> Vec<(Real, Real)> {
+        slit(gap, depth - 30.0, 40.0, 30.0)
     }
 
     #[test]
     fn a_mouth_through_a_slit_is_closed_over() {
         // The pocket, 2 × 50 + 40 × 30 = 1300, is 15 % of the loop's 8700.
         let s = section(&mouth(2.0, 80.0));
-        let (b, count) = bridge_inlets(&s, 0.1);
-        assert_eq!(count, 1);
+        let (b, pockets) = bridge_inlets(&s, &share(0.1));
+        assert_eq!(pockets.len(), 1);
         assert!((b.area - 10_000.0).abs() < 1e-9, "{}", b.area);
+        // The pocket: its lining closed by the mouth.
+        assert!(
+            (pockets[0].area - 1300.0).abs() < 1e-9,
+            "{}",
+            pockets[0].area
+        );
         let on_square = |p: &Point3| p.x == 0.0 || p.x == 100.0 || p.y == 0.0 || p.y == 100.0;
         assert!(b.points.iter().all(on_square));
         // A mouth 12 wide: 1800 is still 12.5 times 12².
-        assert_eq!(bridge_inlets(&section(&mouth(12.0, 80.0)), 0.1).1, 1);
+        assert_eq!(
+            bridge_inlets(&section(&mouth(12.0, 80.0)), &share(0.1))
+                .1
+                .len(),
+            1
+        );
     }
 
     #[test]
     fn a_pocket_under_the_share_stays() {
         let s = section(&mouth(2.0, 80.0));
-        assert_eq!(bridge_inlets(&s, 0.14).1, 1);
-        assert_eq!(bridge_inlets(&s, 0.16).1, 0);
+        assert_eq!(bridge_inlets(&s, &share(0.14)).1.len(), 1);
+        assert_eq!(bridge_inlets(&s, &share(0.16)).1.len(), 0);
         // A slot 3 wide and 20 deep (the gap between two toes): 0.6 %.
         let slot = [
             (0.0, 0.0),
@@ -206,8 +314,8 @@ mod tests {
             (48.5, 100.0),
             (0.0, 100.0),
         ];
-        assert_eq!(bridge_inlets(&section(&slot), 0.1).1, 0);
-        assert_eq!(bridge_inlets(&section(&slot), 0.0).1, 1);
+        assert_eq!(bridge_inlets(&section(&slot), &share(0.1)).1.len(), 0);
+        assert_eq!(bridge_inlets(&section(&slot), &share(0.0)).1.len(), 1);
     }
 
     #[test]
@@ -228,8 +336,8 @@ mod tests {
             (0.0, 100.0),
         ];
         let s = section(&flap);
-        let (b, count) = bridge_inlets(&s, 0.0);
-        assert_eq!(count, 0);
+        let (b, pockets) = bridge_inlets(&s, &share(0.0));
+        assert_eq!(pockets.len(), 0);
         assert_eq!(b, s);
         // A V notch 40 wide and 60 deep, 12 % of the loop: 1200 < 3 × 40².
         let notch = [
@@ -241,14 +349,64 @@ mod tests {
             (30.0, 100.0),
             (0.0, 100.0),
         ];
-        assert_eq!(bridge_inlets(&section(&notch), 0.1).1, 0);
+        assert_eq!(bridge_inlets(&section(&notch), &share(0.1)).1.len(), 0);
         let circle: Vec<(Real, Real)> = (0..200)
             .map(|k| {
                 let t = k as Real / 200.0 * std::f64::consts::TAU;
                 (50.0 * t.cos(), 50.0 * t.sin())
             })
             .collect();
-        assert_eq!(bridge_inlets(&section(&circle), 0.0).1, 0);
+        assert_eq!(bridge_inlets(&section(&circle), &share(0.0)).1.len(), 0);
+    }
+
+    /// An eye socket: a slit 2 wide and 10 deep in the top side into a
+    /// 16 × 14 chamber, 2.5 % of the loop. Under the plain share it stays;
+    /// with a facing rule it is bridged when the rule's direction is the
+    /// way the slit opens (+y, or within 45° of it), not across or against.
+    #[test]
+    fn a_small_pocket_is_bridged_only_where_it_faces_the_rule() {
+        let eye = slit(2.0, 10.0, 16.0, 14.0);
+        let s = section(&eye);
+        assert_eq!(bridge_inlets(&s, &share(0.1)).1.len(), 0);
+        let facing = |x: Real, y: Real| InletRule {
+            min_share: 0.1,
+            facing: Some(Facing {
+                dir: Vec3::new(x, y, 0.0),
+                min_share: 0.005,
+                min_pocket: MIN_POCKET,
+            }),
+        };
+        let (b, pockets) = bridge_inlets(&s, &facing(0.0, 1.0));
+        assert_eq!(pockets.len(), 1);
+        assert!((b.area - 10_000.0).abs() < 1e-9, "{}", b.area);
+        assert_eq!(bridge_inlets(&s, &facing(0.6, 1.0)).1.len(), 1);
+        assert_eq!(bridge_inlets(&s, &facing(1.0, 0.0)).1.len(), 0);
+        assert_eq!(bridge_inlets(&s, &facing(0.0, -1.0)).1.len(), 0);
+        // A direction along the plane's normal says nothing here.
+        let normal = InletRule {
+            min_share: 0.1,
+            facing: Some(Facing {
+                dir: Vec3::new(0.0, 0.1, 1.0),
+                min_share: 0.005,
+                min_pocket: MIN_POCKET,
+            }),
+        };
+        assert_eq!(bridge_inlets(&s, &normal).1.len(), 0);
+        // Where the lids part widest: a 12 wide mouth 4 deep over a
+        // 16 × 10 cup, 208 = 1.4 times its width squared. A facing rule's
+        // own depth ratio takes it; the plain one (3) does not.
+        let cup = slit(12.0, 4.0, 16.0, 10.0);
+        let s = section(&cup);
+        let with_depth = |min_pocket: Real| InletRule {
+            min_share: 0.1,
+            facing: Some(Facing {
+                dir: Vec3::new(0.0, 1.0, 0.0),
+                min_share: 0.005,
+                min_pocket,
+            }),
+        };
+        assert_eq!(bridge_inlets(&s, &with_depth(MIN_POCKET)).1.len(), 0);
+        assert_eq!(bridge_inlets(&s, &with_depth(1.0)).1.len(), 1);
     }
 
     #[test]
@@ -256,8 +414,8 @@ mod tests {
         // The slit's run wraps past the polygon's start.
         let mut pts = mouth(2.0, 80.0);
         pts.rotate_left(6);
-        let (b, count) = bridge_inlets(&section(&pts), 0.1);
-        assert_eq!(count, 1);
+        let (b, pockets) = bridge_inlets(&section(&pts), &share(0.1));
+        assert_eq!(pockets.len(), 1);
         assert!((b.area - 10_000.0).abs() < 1e-9);
     }
 }

@@ -2,9 +2,9 @@
 //! the trunk or held out sideways, their armpits, hand tips and wrists,
 //! and their axes continued out to the fingertips and into the shoulders.
 
-use crate::anatomy::{BodyGeometry, Landmark, LandmarkKind, PartName};
+use crate::anatomy::{BodyGeometry, Landmark, LandmarkKind, OwnedGeometry, PartName};
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
-use crate::geom::mesh::{Mesh, PointCloud};
+use crate::geom::mesh::PointCloud;
 use crate::geom::stats::median;
 use crate::section::cloud::ScanSectionOptions;
 use crate::section::mesh::{point_in_polygon, MeshSlicer};
@@ -593,17 +593,12 @@ fn nearest_point(poly: &[Point2], q: Point2) -> Point2 {
 
 /// The geometry near a point (within `radius`), to cut without sorting the
 /// whole input for every plane.
-enum Local {
-    Mesh(Mesh),
-    Cloud(PointCloud),
-}
-
-fn local_geometry(body: BodyGeometry<'_>, centre: Point3, radius: Real) -> Local {
+fn local_geometry(body: BodyGeometry<'_>, centre: Point3, radius: Real) -> OwnedGeometry {
     let r2 = radius * radius;
     match body {
-        BodyGeometry::Mesh(m) => Local::Mesh(local_mesh(m, centre, radius)),
+        BodyGeometry::Mesh(m) => OwnedGeometry::Mesh(local_mesh(m, centre, radius)),
         // The points in the ball, in order, over the cores.
-        BodyGeometry::Cloud(c) => Local::Cloud(PointCloud {
+        BodyGeometry::Cloud(c) => OwnedGeometry::Cloud(PointCloud {
             positions: crate::geom::parallel::parallel_map(&c.positions, 1 << 15, |run| {
                 run.iter()
                     .copied()
@@ -664,14 +659,14 @@ fn extend_to_fingertips(positions: &[Point3], arm: &mut PartAxis) -> Option<Poin
 /// mesh, or occupancy components of a cloud's slabs (cells `graph_cell` ×
 /// the point spacing, which a cloud needs).
 fn axis_slicer<'a>(
-    local: &'a Local,
+    local: &'a OwnedGeometry,
     dir: Vec3,
     spacing: Option<Real>,
     opts: &SegmentOptions,
 ) -> Option<AxisSlicer<'a>> {
-    Some(match local {
-        Local::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
-        Local::Cloud(c) => {
+    Some(match local.geometry() {
+        BodyGeometry::Mesh(m) => AxisSlicer::Mesh(MeshSlicer::new(m, dir, &opts.section).ok()?),
+        BodyGeometry::Cloud(c) => {
             let spacing = spacing?;
             let graph = ScanSectionOptions {
                 cell_size: Some(opts.scan.cell_size.unwrap_or(spacing) * opts.graph_cell),

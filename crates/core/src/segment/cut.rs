@@ -10,21 +10,50 @@ use crate::section::cloud::{
     ScanSectionOptions, Slab,
 };
 use crate::section::girth::convex_hull;
-use crate::section::inlets::bridge_inlets;
+use crate::section::inlets::{bridge_inlets, Facing, InletRule};
 use crate::section::mesh::{section_mesh, MeshSlicer, Plane, SectionLoop};
 use crate::segment::{HeightSort, PartAxis, PartCut, SegmentError, SegmentOptions, Segmentation};
 use std::sync::OnceLock;
 
 /// A mesh head's loop is taken with a pocket bridged
-/// ([`bridge_inlets`]) that holds at least this share of its area: a cut
+/// (`section::inlets::bridge_inlets`) that holds at least this share of its area: a cut
 /// that follows a modelled mouth's skin in through the parted lips takes
-/// the straight line across instead (the pocket itself is the head's
-/// cavity, and this is the cavities' own threshold). The folds behind the
-/// ears, the nostrils and the eye sockets hold far less. Only the head has
+/// the straight line across instead (the pocket itself is lined by a
+/// cavity of the head, `body::cavity`). The folds behind the
+/// ears, the nostrils and the eye sockets hold far less (the eye sockets,
+/// opening to the front, have [`MIN_FACING_POCKET_SHARE`]). Only the head has
 /// such a pocket: elsewhere a deep fold is the gap between two toes or
 /// between an arm and the chest, which the model follows; and a cloud's
 /// slab outline is left as it is (a scanner sees no pocket).
 pub const MIN_POCKET_SHARE: Real = 0.1;
+
+/// A mesh head's pocket that opens to the front is bridged from this
+/// share of the loop's area: an eye socket, where a cut runs in through
+/// the parted eyelids and round the eyeball (2.5 % of a head's loop). Its
+/// extra length shifted the whole loop's parameter against its
+/// neighbours', and the skin twisted in a band all round the head. The
+/// pocket is lined by a cavity instead (`body::cavity`). The folds behind
+/// the ears and in them, which lower shares also took, open sideways or
+/// back.
+pub const MIN_FACING_POCKET_SHARE: Real = 0.005;
+
+/// A front-facing pocket of a mesh head holds at least this many times
+/// its mouth's width squared (not `section::inlets::MIN_POCKET`'s 3):
+/// where the lids part widest the socket is a cup as deep as its mouth is
+/// wide (the built-in body at eye level: a 14 mm mouth over a 22 mm cup),
+/// and that level kept the twisted band. A half disc holds 0.39 times
+/// its width squared: the face's shallow hollows stay.
+pub const MIN_FACING_POCKET: Real = 1.0;
+
+/// A plane's loops as the cutter takes them ([`Cutter::cut_loops`]): the
+/// part's is `loops[k]`, and `pockets` are those bridged off it (a mesh
+/// head's, [`bridge_inlets`]).
+struct PlaneLoops {
+    plane: Plane,
+    loops: Vec<(SectionLoop, Option<Vec<usize>>)>,
+    k: usize,
+    pockets: Vec<SectionLoop>,
+}
 
 /// One loop round several of a plane's loops (toes apart): their convex
 /// hull, its edges split no longer than the loops' median edge, with the
@@ -184,7 +213,9 @@ impl<'a> Cutter<'a> {
         outermost: bool,
         opts: &SegmentOptions,
     ) -> Result<PartCut, SegmentError> {
-        let (plane, loops, k) = self.cut_loops(part, at, normal, outermost, opts)?;
+        let PlaneLoops {
+            plane, loops, k, ..
+        } = self.cut_loops(part, at, normal, outermost, opts)?;
         let (outline, scan_indices) = loops
             .into_iter()
             .nth(k)
@@ -211,7 +242,7 @@ impl<'a> Cutter<'a> {
         within: &dyn Fn(Point3) -> bool,
         opts: &SegmentOptions,
     ) -> Result<PartCut, SegmentError> {
-        let (plane, loops, _) = self.cut_loops(part, at, normal, true, opts)?;
+        let PlaneLoops { plane, loops, .. } = self.cut_loops(part, at, normal, true, opts)?;
         let mut kept: Vec<_> = loops
             .into_iter()
             .filter(|(l, _)| within(l.centroid))
@@ -233,6 +264,20 @@ impl<'a> Cutter<'a> {
         })
     }
 
+    /// Every loop of the plane through `part`'s axis point at `at` with
+    /// the normal `normal` (`None`: the axis tangent) near that point, with
+    /// the plane: a hand's cut past the knuckles meets each finger apart.
+    pub fn loops_at(
+        &self,
+        part: PartName,
+        at: Real,
+        normal: Option<Vec3>,
+        opts: &SegmentOptions,
+    ) -> Result<(Plane, Vec<SectionLoop>), SegmentError> {
+        let PlaneLoops { plane, loops, .. } = self.cut_loops(part, at, normal, true, opts)?;
+        Ok((plane, loops.into_iter().map(|(l, _)| l).collect()))
+    }
+
     /// [`Cutter::cut`] (the largest loop around the axis point), and the
     /// other loops of the plane nested in it: each one smaller than it
     /// whose centroid it contains, and not itself inside a larger nested
@@ -248,7 +293,12 @@ impl<'a> Cutter<'a> {
         normal: Option<Vec3>,
         opts: &SegmentOptions,
     ) -> Result<(PartCut, Vec<SectionLoop>), SegmentError> {
-        let (plane, loops, k) = self.cut_loops(part, at, normal, true, opts)?;
+        let PlaneLoops {
+            plane,
+            loops,
+            k,
+            pockets,
+        } = self.cut_loops(part, at, normal, true, opts)?;
         let mut outline = None;
         let mut others = Vec::new();
         for (i, (l, indices)) in loops.into_iter().enumerate() {
@@ -275,10 +325,13 @@ impl<'a> Cutter<'a> {
                             .any(|o| o.area > l.area && o.contains(l.centroid))
                     })
                     .collect();
+                // The pockets bridged off the outline (its lining where the
+                // pocket opens through a slit) are pockets too.
                 inside
                     .into_iter()
                     .zip(depth_one)
                     .filter_map(|(l, keep)| keep.then_some(l))
+                    .chain(pockets)
                     .collect()
             }
             BodyGeometry::Cloud(_) => Vec::new(),
@@ -303,7 +356,7 @@ impl<'a> Cutter<'a> {
         normal: Option<Vec3>,
         outermost: bool,
         opts: &SegmentOptions,
-    ) -> Result<(Plane, Vec<(SectionLoop, Option<Vec<usize>>)>, usize), SegmentError> {
+    ) -> Result<PlaneLoops, SegmentError> {
         let seg = self.seg;
         let axis = seg.part(part).ok_or(SegmentError::NoSuchPart(part))?;
         let (p, t) = axis
@@ -318,14 +371,28 @@ impl<'a> Cutter<'a> {
         let plane = Plane::new(p, n)?;
         let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
         let arms = self.torso_arms(part, &plane);
+        let mut pockets = Vec::new();
         let loops: Vec<_> = self
             .loops(&plane, p, radius, opts, &arms)
             .into_iter()
             .map(|(l, i)| match self.body {
                 BodyGeometry::Mesh(_) if part == PartName::Head => {
-                    (bridge_inlets(&l, MIN_POCKET_SHARE).0, i)
+                    let rule = InletRule {
+                        min_share: MIN_POCKET_SHARE,
+                        facing: Some(Facing {
+                            dir: self.seg.frame.front,
+                            min_share: MIN_FACING_POCKET_SHARE,
+                            min_pocket: MIN_FACING_POCKET,
+                        }),
+                    };
+                    let (bridged, bridged_pockets) = bridge_inlets(&l, &rule);
+                    pockets.push(bridged_pockets);
+                    (bridged, i)
                 }
-                _ => (l, i),
+                _ => {
+                    pockets.push(Vec::new());
+                    (l, i)
+                }
             })
             .collect();
         let outlines: Vec<SectionLoop> = loops.iter().map(|l| l.0.clone()).collect();
@@ -340,7 +407,13 @@ impl<'a> Cutter<'a> {
             _ => crate::section::mesh::select_loop(&outlines, p)
                 .ok_or(SegmentError::EmptyCut { part, at })?,
         };
-        Ok((plane, loops, k))
+        let pockets = pockets.swap_remove(k);
+        Ok(PlaneLoops {
+            plane,
+            loops,
+            k,
+            pockets,
+        })
     }
 
     /// `0` for `n = up`, `1` for `n = −up`, else `None`.
@@ -914,9 +987,10 @@ mod tests {
         let opts = SegmentOptions::default();
         let up = Some(seg.frame.up);
         let left = cutter.cut(PartName::LeftLeg, 0.5, up, true, &opts).unwrap();
-        let (_, loops, _) = cutter
+        let loops = cutter
             .cut_loops(PartName::LeftLeg, 0.5, up, true, &opts)
-            .unwrap();
+            .unwrap()
+            .loops;
         let right = loops
             .iter()
             .map(|(l, _)| l)

@@ -12,13 +12,16 @@
 //! has no corner to find; its joint is placed by the segment lengths of
 //! the standard anthropometric tables (Drillis and Contini 1966, as
 //! fractions of the stature `H`: upper arm 0.186, forearm 0.146, thigh
-//! 0.245, shank 0.246; acromion height 0.818 and biacromial breadth
-//! 0.259; trochanter height 0.530): the elbow by arc length along the
-//! arm's axis, the knee at the shank's share of the rise from the
-//! body's own ankle joint to the hip's height. The shoulder lies on the
-//! upper arm's line where the shoulder's bones put it
-//! (`shoulder_joint`); the hip on the thigh's axis line continued up
-//! to 0.04 `H` above the crotch, in the trunk's coronal plane.
+//! 0.245, shank 0.246; trochanter height 0.530): the elbow by arc
+//! length along the arm's axis, the knee at the shank's share of the
+//! rise from the body's own ankle joint to the hip's height. The
+//! shoulder is where the upper arm's line passes a socket placed from
+//! the soles and the neck (`shoulder_joint`); the hip on the thigh's
+//! axis line continued up to 0.04 `H` above the crotch, in the trunk's
+//! coronal plane, then a little outward and back. Where the tables do
+//! not say, the offsets are the means of the development corpus's rig
+//! joints over its 40 bodies (docs/corpus.md, Joints; a fit on half the
+//! bodies predicts the other half as well).
 
 use crate::anatomy::{BodyGeometry, LandmarkKind, PartName};
 use crate::geom::linalg::principal;
@@ -79,10 +82,27 @@ const THIGH: Real = 0.245;
 const SHANK: Real = 0.246;
 /// Hip joint centre above the crotch, as a fraction of the stature.
 const HIP_ABOVE_CROTCH: Real = 0.04;
-/// Acromion height above the soles and biacromial breadth, as fractions
-/// of the stature.
-const ACROMION_HEIGHT: Real = 0.818;
-const BIACROMIAL: Real = 0.259;
+/// The femoral head lies this far (fractions of the stature) outward of
+/// the thigh's line continued up and behind the trunk's coronal plane
+/// (the rig joints of the development corpus: 0.0070 `H` (sd 0.0048)
+/// and 0.0070 `H` (sd 0.0051) over its 40 bodies).
+const HIP_OUTWARD: Real = 0.0070;
+const HIP_BEHIND: Real = 0.0070;
+/// The shoulder joint's standard socket: its height above the soles and
+/// below the neck's narrowest cut, its offset outward from the neck's
+/// centre and in front of it (fractions of the stature; the development
+/// corpus's rig joints, means over its 40 bodies, sd 0.010, 0.010, 0.007
+/// and 0.010 `H`: their height sits 0.02 `H` under the acromion of
+/// Drillis and Contini, 1966, and their breadth 0.205 `H` inside its
+/// biacromial 0.259 `H`, as a ball joint's centre does).
+const SHOULDER_HEIGHT: Real = 0.797;
+const SHOULDER_BELOW_NECK: Real = 0.070;
+const SHOULDER_OUTWARD: Real = 0.1025;
+const SHOULDER_FRONT: Real = -0.0064;
+/// How far the shoulder joint moves from the upper arm's line toward
+/// the socket: σ_line² / (σ_line² + σ_socket²), the line passing the
+/// rig joints at 14 mm median, the socket 17-20 mm per axis.
+const SOCKET_WEIGHT: Real = 0.35;
 /// The upper arm's line is fitted over this much of the arm's axis from
 /// its start, as a fraction of the stature (less than the upper arm).
 const UPPER_ARM_LINE: Real = 0.08;
@@ -204,7 +224,14 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
             continue;
         }
         let rise = (crotch.dot(up) + HIP_ABOVE_CROTCH * h - p1.dot(up)) / dir.dot(up);
-        out.push((names[0], in_coronal_plane(seg, p1 + dir * rise)));
+        let outward = if part == PartName::LeftLeg {
+            seg.frame.left
+        } else {
+            -seg.frame.left
+        };
+        let hip = in_coronal_plane(seg, p1 + dir * rise)
+            + (outward * HIP_OUTWARD - seg.frame.front * HIP_BEHIND) * h;
+        out.push((names[0], hip));
         // The ankle joint lies on the shank's line below the axis's end.
         let ankle_at = arc_of_nearest(axis, narrowest) + narrowest.distance(ankle);
         // A bent knee where the thigh's and the shank's lines cross; a
@@ -231,24 +258,32 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
     out
 }
 
-/// The shoulder joint (the humeral head's centre) on the line of the
-/// upper arm (the arm's axis over its first [`UPPER_ARM_LINE`] `H`),
-/// nearest to where the shoulder's bones put it: one arm radius `r`
-/// below the acromion's height and one `r` inside its half breadth
-/// from the trunk's axis (the humeral head about as wide as the arm),
-/// with the acromion at [`ACROMION_HEIGHT`] `H` above the soles and
-/// [`BIACROMIAL`] `H` across (Drillis and Contini 1966). The line
-/// follows the arm in any pose; the bones only say where along it.
-/// `outward` is the body's side of this arm. `None` without a trunk or
-/// an upper arm to fit.
+/// The shoulder joint (the humeral head's centre): near the line of the
+/// upper arm (the arm's axis over its first [`UPPER_ARM_LINE`] `H`), at
+/// the socket's place along it. The socket lies [`SHOULDER_OUTWARD`] `H`
+/// out from the neck's centre and [`SHOULDER_FRONT`] `H` in front of it,
+/// at the mean of two heights: [`SHOULDER_HEIGHT`] `H` above the soles
+/// and [`SHOULDER_BELOW_NECK`] `H` below the neck (the trunk's axis
+/// stands in for a neck not found). The point of the line nearest the
+/// socket then moves [`SOCKET_WEIGHT`] of the way to it: the line
+/// follows the arm in any pose but says nothing of where along it the
+/// joint is; the socket says both, less sharply. `outward` is the body's
+/// side of this arm. `None` without a trunk or an upper arm to fit.
 fn shoulder_joint(seg: &Segmentation, axis: &PartAxis, outward: Vec3) -> Option<Point3> {
-    let (up, h) = (seg.frame.up, seg.height);
-    let (on_line, dir, r) = axis_line(axis, 0.0, UPPER_ARM_LINE * h)?;
-    let level = seg.frame.origin.dot(up) + ACROMION_HEIGHT * h - r;
-    let nearest = trunk_at_level(seg, level)?;
-    let mid = nearest + up * (level - nearest.dot(up));
-    let socket = mid + outward * (0.5 * BIACROMIAL * h - r);
-    Some(on_line + dir * (socket - on_line).dot(dir))
+    let (up, front, h) = (seg.frame.up, seg.frame.front, seg.height);
+    let (on_line, dir, _) = axis_line(axis, 0.0, UPPER_ARM_LINE * h)?;
+    let from_soles = seg.frame.origin.dot(up) + SHOULDER_HEIGHT * h;
+    let neck = seg.landmark(LandmarkKind::Neck).map(|l| l.position);
+    let (centre, level) = match neck {
+        Some(n) => (n, 0.5 * (from_soles + n.dot(up) - SHOULDER_BELOW_NECK * h)),
+        None => (trunk_at_level(seg, from_soles)?, from_soles),
+    };
+    let socket = centre
+        + up * (level - centre.dot(up))
+        + outward * (SHOULDER_OUTWARD * h)
+        + front * (SHOULDER_FRONT * h);
+    let nearest = on_line + dir * (socket - on_line).dot(dir);
+    Some(nearest + (socket - nearest) * SOCKET_WEIGHT)
 }
 
 /// `p` moved along the body's front onto the coronal plane through the
@@ -531,14 +566,17 @@ mod tests {
         assert!(point_at_level(&a, up, 1.5).is_none());
     }
 
-    #[test]
-    fn a_held_out_arm_s_shoulder_is_the_socket_on_its_line() {
-        let h = 1.8;
-        let r = 0.04;
-        let level = ACROMION_HEIGHT * h - r;
-        let seg = Segmentation::z_up(
+    /// A z-up trunk from 0.9 to 1.4 and its neck landmark.
+    fn trunk(h: Real, neck: Point3) -> Segmentation {
+        Segmentation::z_up(
             h,
-            Vec::new(),
+            vec![crate::anatomy::Landmark {
+                kind: LandmarkKind::Neck,
+                position: neck,
+                height_fraction: neck.z / h,
+                confidence: 1.0,
+                how: "test",
+            }],
             vec![PartAxis {
                 name: PartName::Torso,
                 points: (0..=20)
@@ -548,28 +586,55 @@ mod tests {
                 start: LandmarkKind::Crotch,
                 end: LandmarkKind::Neck,
             }],
+        )
+    }
+
+    #[test]
+    fn a_shoulder_lies_between_the_arm_s_line_and_the_socket() {
+        let h = 1.8;
+        let neck = Vec3::new(0.01, 0.02, 1.55);
+        let seg = trunk(h, neck);
+        let level = 0.5 * (SHOULDER_HEIGHT * h + neck.z - SHOULDER_BELOW_NECK * h);
+        let socket = Vec3::new(
+            neck.x + SHOULDER_OUTWARD * h,
+            neck.y - SHOULDER_FRONT * h,
+            level,
         );
-        // An arm held out level, 2 cm in front of the trunk's plane and
-        // starting inside the trunk: the joint is on its line, at the
-        // socket's lateral offset.
+        // An arm held out level, 2 cm in front of the socket and 3 cm
+        // above it: along its line at the socket's lateral offset, then
+        // SOCKET_WEIGHT of the way to the socket.
         let arm = axis(
             (0..=60)
-                .map(|i| Vec3::new(0.05 + 0.01 * i as Real, -0.02, level + 0.03))
+                .map(|i| Vec3::new(0.05 + 0.01 * i as Real, socket.y - 0.02, level + 0.03))
                 .collect(),
         );
         let s = shoulder_joint(&seg, &arm, seg.frame.left).unwrap();
-        let want = Vec3::new(0.5 * BIACROMIAL * h - r, -0.02, level + 0.03);
+        let on_line = Vec3::new(socket.x, socket.y - 0.02, level + 0.03);
+        let want = on_line + (socket - on_line) * SOCKET_WEIGHT;
         assert!(s.distance(want) < 1e-9, "{s:?} {want:?}");
-        // The same arm hanging down through the socket's side: on its
-        // line at the socket's height.
-        let x = 0.5 * BIACROMIAL * h - r + 0.01;
+        // The same arm hanging down through the socket: the socket.
         let hanging = axis(
             (0..=60)
-                .map(|i| Vec3::new(x, 0.0, level + 0.1 - 0.01 * i as Real))
+                .map(|i| Vec3::new(socket.x, socket.y, level + 0.1 - 0.01 * i as Real))
                 .collect(),
         );
         let s = shoulder_joint(&seg, &hanging, seg.frame.left).unwrap();
-        assert!(s.distance(Vec3::new(x, 0.0, level)) < 1e-9, "{s:?}");
+        assert!(s.distance(socket) < 1e-9, "{s:?} {socket:?}");
+        // The right arm mirrors it.
+        let right = axis(
+            (0..=60)
+                .map(|i| {
+                    Vec3::new(
+                        2.0 * neck.x - socket.x,
+                        socket.y,
+                        level + 0.1 - 0.01 * i as Real,
+                    )
+                })
+                .collect(),
+        );
+        let s = shoulder_joint(&seg, &right, -seg.frame.left).unwrap();
+        let want = Vec3::new(2.0 * neck.x - socket.x, socket.y, level);
+        assert!(s.distance(want) < 1e-9, "{s:?} {want:?}");
         // A hip in front of the trunk's axis moves back onto its plane,
         // keeping its height and side.
         let hip = in_coronal_plane(&seg, Vec3::new(0.1, -0.07, 0.95));

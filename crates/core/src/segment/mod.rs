@@ -163,7 +163,7 @@ mod slices;
 mod torso;
 mod up_axis;
 
-pub use cut::{cut_part, cut_part_along, Cutter, MIN_POCKET_SHARE};
+pub use cut::{cut_part, cut_part_along, Cutter, MIN_FACING_POCKET_SHARE, MIN_POCKET_SHARE};
 
 use crate::anatomy::{BodyFrame, BodyGeometry, Landmark, LandmarkKind, PartName};
 use crate::geom::math::{Point3, Real, Vec3};
@@ -341,6 +341,9 @@ pub struct Segmentation {
     pub slice_spacing: Real,
     /// The scan's estimated point spacing (clouds only).
     pub point_spacing: Option<Real>,
+    /// The scan's estimated noise across its surface (clouds only; see
+    /// [`crate::section::cloud::CloudSlicer::noise`]).
+    pub point_noise: Option<Real>,
     pub landmarks: Vec<Landmark>,
     pub parts: Vec<PartAxis>,
     /// What was not found or is doubtful (a missing arm, a weak front).
@@ -365,6 +368,7 @@ impl Segmentation {
             height,
             slice_spacing: 0.005,
             point_spacing: None,
+            point_noise: None,
             landmarks,
             parts,
             warnings: Vec::new(),
@@ -575,6 +579,7 @@ pub fn segment(
         height: extent,
         slice_spacing: step,
         point_spacing: slicer.spacing(),
+        point_noise: slicer.noise(),
         landmarks,
         parts,
         warnings,

@@ -55,7 +55,10 @@ impl<'a> AxisSlicer<'a> {
             BodyGeometry::Mesh(_) => Ok((AxisSlicer::new(body, axis, opts, None)?, None)),
             BodyGeometry::Cloud(c) => {
                 let cloud = CloudSlicer::new(c, axis)?;
-                let slicer = AxisSlicer::new(body, axis, opts, Some(cloud.spacing()))?;
+                let mut slicer = AxisSlicer::new(body, axis, opts, Some(cloud.spacing()))?;
+                if let AxisSlicer::Cloud(s) = &mut slicer {
+                    s.noise = Some(cloud.noise());
+                }
                 Ok((slicer, Some((cloud.axis(), cloud.into_sorted()))))
             }
         }
@@ -72,6 +75,13 @@ impl<'a> AxisSlicer<'a> {
         match self {
             AxisSlicer::Mesh(_) => None,
             AxisSlicer::Cloud(s) => Some(s.spacing),
+        }
+    }
+
+    pub(super) fn noise(&self) -> Option<Real> {
+        match self {
+            AxisSlicer::Mesh(_) => None,
+            AxisSlicer::Cloud(s) => s.noise,
         }
     }
 
@@ -120,6 +130,9 @@ pub(super) struct SlabComponents {
     bin_width: Real,
     range: (Real, Real),
     spacing: Real,
+    /// The cloud's noise, when the slicer that estimated the spacing was
+    /// built here ([`AxisSlicer::new_sorted`]).
+    noise: Option<Real>,
     half_thickness: Real,
     cell: Real,
     closing: usize,
@@ -194,6 +207,7 @@ impl SlabComponents {
             bin_width: width,
             range: (lo, hi),
             spacing,
+            noise: None,
             half_thickness: len(o.half_thickness, "scan.half_thickness")?,
             cell: len(o.cell_size, "scan.cell_size")?,
             closing: o.closing_radius,
@@ -232,12 +246,12 @@ impl SlabComponents {
             max = Vec2::new(max.x.max(p.x), max.y.max(p.y));
         }
         let r = self.closing;
-        let margin = (r + 2) as Real;
+        let margin = r + 2;
         let mut g = self.cell;
         let dims = |g: Real| {
             (
-                ((max.x - min.x) / g + 2.0 * margin).ceil() as usize + 1,
-                ((max.y - min.y) / g + 2.0 * margin).ceil() as usize + 1,
+                ((max.x - min.x) / g + 2.0 * margin as Real).ceil() as usize + 1,
+                ((max.y - min.y) / g + 2.0 * margin as Real).ceil() as usize + 1,
             )
         };
         while {
@@ -247,7 +261,7 @@ impl SlabComponents {
             g *= 1.5;
         }
         let (w, h) = dims(g);
-        let grid = Grid::new(min - Vec2::new(margin * g, margin * g), g, w, h);
+        let grid = Grid::below(min, margin, g, w, h);
         let mut img = vec![false; w * h];
         let cells: Vec<usize> = pts.iter().map(|&p| grid.cell(p)).collect();
         for &c in &cells {

@@ -132,15 +132,28 @@ def _direction(name: str, d: Any) -> Optional[Tuple[float, float, float]]:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
-def fit_curve(points: Any, order: Union[str, int] = "auto", ea: float = 0.01, em: float = 0.05) -> Curve:
+def fit_curve(
+    points: Any,
+    order: Union[str, int] = "auto",
+    ea: float = 0.01,
+    em: float = 0.05,
+    *,
+    smoothing: float = 0.0,
+    noise: float = 0.0,
+) -> Curve:
     """Fits a trigonometric curve to one closed loop of points.
 
     ``points`` is an (N, 2) or (N, 3) array ordered along the loop; ``order``
     is ``"auto"`` (the smallest order meeting both tolerances) or a whole
     number; ``ea`` and ``em`` are the average and maximum relative error
-    tolerances (paper Eq. 12). The same fit as ``trigbody fit --order ORDER
-    --ea EA --em EM`` (``Curve.fit_json`` is its ``--json`` output)."""
-    return _trigbody.fit_curve(_float_array("points", points, (2, 3)), order, float(ea), float(em))
+    tolerances (paper Eq. 12); ``smoothing`` a penalty on high harmonics
+    (bridges gaps); ``noise`` the points' scatter (standard deviation, in
+    their units), under which ``"auto"`` does not fit. The same fit as
+    ``trigbody fit --order ORDER --ea EA --em EM --smoothing S --noise N``
+    (``Curve.fit_json`` is its ``--json`` output)."""
+    return _trigbody.fit_curve(
+        _float_array("points", points, (2, 3)), order, float(ea), float(em), float(smoothing), float(noise)
+    )
 
 
 def read_geometry(path: Union[str, os.PathLike]):

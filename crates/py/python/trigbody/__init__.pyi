@@ -21,7 +21,15 @@ class Report(Mapping[str, Any]):
     def to_json(self) -> str: ...
     def save(self, path: _Path, overwrite: bool = False) -> None: ...
 
-def fit_curve(points: npt.ArrayLike, order: Union[str, int] = "auto", ea: float = 0.01, em: float = 0.05) -> Curve: ...
+def fit_curve(
+    points: npt.ArrayLike,
+    order: Union[str, int] = "auto",
+    ea: float = 0.01,
+    em: float = 0.05,
+    *,
+    smoothing: float = 0.0,
+    noise: float = 0.0,
+) -> Curve: ...
 def read_geometry(
     path: _Path,
 ) -> Tuple[npt.NDArray[np.float64], Optional[npt.NDArray[np.uint32]], Optional[npt.NDArray[np.float64]]]: ...

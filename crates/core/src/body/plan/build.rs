@@ -24,7 +24,7 @@ pub(in crate::body) fn build_part(
         start_cap,
         mut end_cap,
         tip,
-        tip_estimated,
+        end_unchecked,
         shoulders: _,
     } = plan;
     let mut dome_retries = 0;
@@ -102,7 +102,7 @@ pub(in crate::body) fn build_part(
                     }
                 }
                 // An estimated tip has no input around it to measure against.
-                let measure = !(sole || end_measured || tip_estimated);
+                let measure = !(sole || end_measured || end_unchecked);
                 if let (Some(check), true) = (end_check, measure) {
                     end_measured = true;
                     if let Some((k, before, after)) = better_end(&cuts, &part, tip, &options, check)
@@ -173,16 +173,7 @@ fn drop_cut(cuts: &mut Vec<Cut>, k: usize, name: PartName, why: &str, warnings: 
 
 /// What the report says of each cut's fit.
 fn section_fits(cuts: &[Cut]) -> Vec<SectionFit> {
-    cuts.iter()
-        .map(|c| SectionFit {
-            at: c.at,
-            order: c.fit.order,
-            ea: c.fit.errors.ea,
-            em: c.fit.errors.em,
-            met: c.fit.met,
-            ellipse: c.fit.ellipse.as_ref().map(|e| (e.errors.ea, e.errors.em)),
-        })
-        .collect()
+    cuts.iter().map(|c| SectionFit::of(c.at, &c.fit)).collect()
 }
 
 /// A dome end (`tip` given) sized to reach the tip: its height is the
@@ -244,7 +235,8 @@ fn cap_error(cap: &Cap, input: &InputDistance) -> Real {
 /// tangent, and the dome, which follows the tangent's harmonics over its
 /// whole height, bulges into a paddle. Tries the part without its last 1-3
 /// sections (at least four kept) and returns `(k, before, after)` for the
-/// best when it strays under 0.7 times as much, both ways ([`end_error`]).
+/// best when it strays under 0.7 times as much, or by `tol` less, both
+/// ways ([`end_error`]).
 /// The end is measured against the input both ways, so a good end is kept
 /// (one way alone, model -> input, cuts fingertips off).
 fn better_end(
@@ -288,7 +280,7 @@ fn better_end(
         .filter_map(|(&k, e)| e.map(|e| (k, e)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     let (k, after) = best?;
-    (after < 0.7 * before).then_some((k, before, after))
+    (after < 0.7 * before || after < before - tol).then_some((k, before, after))
 }
 
 /// The input around a part's end: the points within the tip's distance
@@ -655,7 +647,7 @@ pub(in crate::body) fn drop_outliers(
 /// under an armpit, a chain closed across a gap, a cut meeting a nearby
 /// limb), and the sections' own test ([`drop_outliers`], ½ to 2 of the
 /// median) lets such loops through.
-const HALFWAY_AREA: Real = 0.75;
+pub(super) const HALFWAY_AREA: Real = 0.75;
 
 /// Adaptive spacing (method.md §8.6): builds the part, then between every
 /// two consecutive sections cuts the input halfway and compares that loop
@@ -675,7 +667,7 @@ pub(in crate::body) fn refine(
     let (body, seg) = (cutter.body(), cutter.segmentation());
     let name = plan.name;
     let (start_cap, tip, shoulders) = (plan.start_cap, plan.tip, plan.shoulders);
-    let tip_estimated = plan.tip_estimated;
+    let end_unchecked = plan.end_unchecked;
     let far = opts.max_curve_offset * seg.height;
     // How far a fitted curve may stray from its loop's straight side and
     // still be on it.
@@ -783,7 +775,7 @@ pub(in crate::body) fn refine(
             start_cap,
             end_cap,
             tip,
-            tip_estimated,
+            end_unchecked,
             shoulders,
         };
         (built, cuts) = build_part(
@@ -800,7 +792,7 @@ pub(in crate::body) fn refine(
         start_cap,
         end_cap,
         tip,
-        tip_estimated,
+        end_unchecked,
         shoulders,
     };
     let scan = matches!(body, BodyGeometry::Cloud(_));

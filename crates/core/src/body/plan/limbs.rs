@@ -44,18 +44,19 @@ impl<'a> LimbPlans<'a, '_> {
         (parts, with_torso)
     }
 
-    /// The plan of one of [`LimbPlans::parts`].
+    /// The plan of one of [`LimbPlans::parts`], and an arm's hand's split
+    /// where its digits are parts of their own ([`split_hand`]).
     pub(in crate::body) fn plan(
         &self,
         name: PartName,
         axis: &PartAxis,
         warnings: &mut Vec<String>,
-    ) -> Plan {
+    ) -> (Plan, Option<HandSplit>) {
         let step = self.opts.spacing * self.seg.height / axis.length();
         match name {
-            PartName::Head => self.head(axis, step, warnings),
+            PartName::Head => (self.head(axis, step, warnings), None),
             PartName::LeftArm | PartName::RightArm => self.arm(name, axis, step, warnings),
-            _ => self.leg(name, axis, step, warnings),
+            _ => (self.leg(name, axis, step, warnings), None),
         }
     }
 
@@ -67,6 +68,7 @@ impl<'a> LimbPlans<'a, '_> {
             name,
             RoundedEnd {
                 t0: 0.0,
+                until: 1.0,
                 watch_from: 0.5,
                 step,
                 against: EndArea::Largest,
@@ -93,13 +95,19 @@ impl<'a> LimbPlans<'a, '_> {
             start_cap: CapKind::Open,
             end_cap: CapKind::dome(),
             tip,
-            tip_estimated: crown.is_some(),
+            end_unchecked: crown.is_some(),
             shoulders: Shoulders::default(),
         }
     }
 
     /// An arm: evenly to the wrist, finely over the hand to a dome.
-    fn arm(&self, name: PartName, axis: &PartAxis, step: Real, warnings: &mut Vec<String>) -> Plan {
+    fn arm(
+        &self,
+        name: PartName,
+        axis: &PartAxis,
+        step: Real,
+        warnings: &mut Vec<String>,
+    ) -> (Plan, Option<HandSplit>) {
         let (opts, h, len) = (self.opts, self.seg.height, axis.length());
         let wrist_kind = if name == PartName::LeftArm {
             LandmarkKind::LeftWrist
@@ -123,13 +131,35 @@ impl<'a> LimbPlans<'a, '_> {
         // The arm starts where its loops leave the trunk.
         if let Some(torso) = self.seg.part(PartName::Torso) {
             let k = cuts.iter().take_while(|c| holds_axis(c, torso)).count();
-            if k > 0 && k < cuts.len() / 2 {
-                warnings.push(format!(
-                    "{name}: first {k} section(s) dropped (their loops hold the torso's axis)"
-                ));
-                cuts.drain(..k);
-            }
+            drop_first(
+                &mut cuts,
+                k,
+                name,
+                "their loops hold the torso's axis",
+                warnings,
+            );
         }
+        // Nor, on a scan, where its loop takes in some of the trunk: a
+        // first loop much larger than the next ones' (the slab's image at
+        // the shoulder closed across the armpit onto the chest). A mesh's
+        // loops are exact, and an arm pressed to its side legitimately
+        // widens there (body_027 lost 1.2 mm to this rule); but first
+        // loops cut off from the rest by planes that meet no loop of the
+        // arm are not its tube (a shoulder cut lengthwise where the axis
+        // leaves the trunk sideways): those go when larger than the loops
+        // past the gap by the same third.
+        let k = match self.cutter.body() {
+            BodyGeometry::Cloud(_) => (0..cuts.len())
+                .take_while(|&i| takes_in_trunk(&cuts[i], &cuts[i + 1..]))
+                .count(),
+            BodyGeometry::Mesh(_) => cuts
+                .windows(2)
+                .position(|w| w[1].at - w[0].at > 1.5 * step)
+                .filter(|&g| (0..=g).all(|i| takes_in_trunk(&cuts[i], &cuts[g + 1..])))
+                .map_or(0, |g| g + 1),
+        };
+        let why = "their loops take in the trunk: larger than the next ones' by over a third";
+        drop_first(&mut cuts, k, name, why, warnings);
         // A scan's slab past the palm merges the fingers, the thumb and the
         // scanner's gaps into blobs whose sections fold: its hand ends
         // where the loop falls under the palm with its thumb.
@@ -137,27 +167,40 @@ impl<'a> LimbPlans<'a, '_> {
             BodyGeometry::Mesh(_) => EndArea::First,
             BodyGeometry::Cloud(_) => EndArea::Largest,
         };
-        // A mesh's fingers apart are loops of their own past the knuckles:
-        // the run takes them inside the palm's outline (a mitten). A
-        // scan's slab there is one blob already, and taking the loops
-        // inside the last one changed no corpus scan's hand for the better.
+        // A mesh's fingers apart are digits of their own ([`split_hand`]):
+        // the palm's run stops where the last one parts, its end flat and
+        // not checked against the input (the digits go on). Fingers that
+        // touch are loops of their own past the knuckles only here and
+        // there: the run takes them inside the palm's outline (a mitten),
+        // with a warning. A scan's slab there is one blob already, and
+        // taking the loops inside the last one changed no corpus scan's
+        // hand for the better.
+        let split = split_hand(self.cutter, name, wrist, opts)
+            .map_err(|why| warnings.push(format!("{name}: the hand is a mitten ({why})")))
+            .ok();
         let hand = RoundedEnd {
             t0: wrist,
+            until: split.as_ref().map_or(1.0, |s| s.palm_end),
             watch_from: wrist,
             step: fine,
             against,
             within_last: against == EndArea::First,
         };
         cuts.extend(cut_to_rounded_end(self.cutter, name, hand, opts, warnings));
-        Plan {
+        let (end_cap, tip) = match split {
+            Some(_) => (CapKind::Flat, None),
+            None => (CapKind::dome(), axis.points.last().copied()),
+        };
+        let plan = Plan {
             name,
             cuts,
             start_cap: CapKind::Open,
-            end_cap: CapKind::dome(),
-            tip: axis.points.last().copied(),
-            tip_estimated: false,
+            end_cap,
+            tip,
+            end_unchecked: split.is_some(),
             shoulders: Shoulders::default(),
-        }
+        };
+        (plan, split)
     }
 
     /// A leg: evenly to the ankle, finely below it to the sole.
@@ -192,6 +235,7 @@ impl<'a> LimbPlans<'a, '_> {
         };
         let outlines = RoundedEnd {
             t0: upper,
+            until: 1.0,
             watch_from: ankle,
             step: opts.foot_spacing * h / len,
             against: EndArea::Largest,
@@ -224,8 +268,24 @@ impl<'a> LimbPlans<'a, '_> {
                 axis: DomeAxis::Normal,
             },
             tip: sole,
-            tip_estimated: false,
+            end_unchecked: false,
             shoulders: Shoulders::default(),
         }
+    }
+}
+
+/// Drops an arm's first `k` cuts, with a warning saying `why`, unless
+/// that is none or half of them or more (then the rule, not the arm, is
+/// wrong).
+fn drop_first(
+    cuts: &mut Vec<Cut>,
+    k: usize,
+    name: PartName,
+    why: &str,
+    warnings: &mut Vec<String>,
+) {
+    if k > 0 && k < cuts.len() / 2 {
+        warnings.push(format!("{name}: first {k} section(s) dropped ({why})"));
+        cuts.drain(..k);
     }
 }

@@ -85,11 +85,14 @@ pub(super) fn cut_and_fit(
         ..opts.fit
     };
     let fo = match body {
-        BodyGeometry::Cloud(_) => scan_fit_options(&FitOptions {
-            ea: base.ea * opts.scan_tolerance_factor,
-            em: base.em * opts.scan_tolerance_factor,
-            ..base
-        }),
+        BodyGeometry::Cloud(_) => scan_fit_options(
+            &FitOptions {
+                ea: base.ea * opts.scan_tolerance_factor,
+                em: base.em * opts.scan_tolerance_factor,
+                ..base
+            },
+            seg.point_noise.unwrap_or(0.0),
+        ),
         BodyGeometry::Mesh(_) => base,
     };
     // A mesh's section is a polygon whose edges lie on the surface: the
@@ -526,9 +529,10 @@ pub(super) struct Plan {
     pub(super) end_cap: CapKind,
     /// For a dome end: the tip the dome should reach.
     pub(super) tip: Option<Point3>,
-    /// Whether the tip is an estimate beyond the input (an unseen crown):
-    /// the end is then not checked against the input.
-    pub(super) tip_estimated: bool,
+    /// Whether the end is left unchecked against the input: its tip is an
+    /// estimate beyond it (an unseen crown), or it is a palm's flat end
+    /// inside its fingers' parts.
+    pub(super) end_unchecked: bool,
     /// How the torso meets the arms (torso only).
     pub(super) shoulders: Shoulders,
 }
@@ -559,12 +563,16 @@ pub(super) fn cut_all(
 }
 
 /// A rounded end's run of sections (head top, hand, foot): evenly from
-/// `t0` in steps of `step` (axis fractions); from `watch_from` on the run
-/// ends where the loop shrinks below `end_area_fraction` of the area it is
-/// held `against`, or no longer [`follows`] the loop before.
+/// `t0` in steps of `step` (axis fractions) up to `until` (the part's end
+/// itself never); from `watch_from` on the run ends where the loop shrinks
+/// below `end_area_fraction` of the area it is held `against`, or no
+/// longer [`follows`] the loop before.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct RoundedEnd {
     pub(super) t0: Real,
+    /// The last fraction cut (1: to the part's end; a palm whose fingers
+    /// are digits stops where they part).
+    pub(super) until: Real,
     pub(super) watch_from: Real,
     pub(super) step: Real,
     pub(super) against: EndArea,
@@ -597,6 +605,7 @@ pub(super) fn cut_to_rounded_end(
     let mut out: Vec<Cut> = Vec::new();
     let RoundedEnd {
         t0,
+        until,
         watch_from,
         step,
         against,
@@ -606,6 +615,7 @@ pub(super) fn cut_to_rounded_end(
     let mut failed = 0;
     let ts = fractions(t0, 1.0, step);
     let ts = &ts[..ts.len().saturating_sub(1)];
+    let ts = &ts[..ts.iter().take_while(|&&t| t <= until).count()];
     // Cut a few planes ahead over the cores, then walk them in order: the
     // cuts past the end (at most one batch) are made and dropped.
     let batch = rayon::current_num_threads().clamp(1, 8);
@@ -676,6 +686,14 @@ pub(super) fn holds_axis(cut: &Cut, torso: &PartAxis) -> bool {
         let q = w[0] + (w[1] - w[0]) * (h0 / (h0 - h1));
         point_in_polygon(c.frame.to_plane(q), &outline)
     })
+}
+
+/// Whether `cut`'s loop is larger than the median of the next two loops'
+/// by more than a third (the band [`build::HALFWAY_AREA`] allows between
+/// neighbours): an arm's first loop that takes in some of the trunk.
+pub(super) fn takes_in_trunk(cut: &Cut, next: &[Cut]) -> bool {
+    let mut areas: Vec<Real> = next.iter().take(2).map(|c| c.area).collect();
+    median(&mut areas).is_some_and(|m| cut.area * build::HALFWAY_AREA > m)
 }
 
 /// A test of whether a point, seen along `c`'s normal, lies inside it.

@@ -11,22 +11,26 @@ const COVERAGE_BINS: usize = 72;
 
 /// Joins open arcs that are pieces of one loop broken by scanner holes.
 ///
-/// A set of arcs (two, or three when no pair qualifies) is joined when,
+/// A set of arcs (two, or the fewest more when no pair qualifies) is joined when,
 /// about the centre `c` of the circle fitted to all of them: (1) each pair
 /// occupies disjoint angular ranges (overlap at most 15 % of the smaller's
-/// 5° bins); (2) together they cover at least 10° more than any one covers
-/// about its own centre (arcs of one loop complete each other; separate
-/// parts seen from between them cover less than each does on its own);
+/// 5° bins, or its two end bins); (2) together they cover at least 10° more
+/// than any one covers about its own centre (arcs of one loop complete each
+/// other; separate parts seen from between them cover less than each does
+/// on its own), or, with a fragment at most 10° wide among them, no less
+/// and every hole short (below);
 /// (3) in angular order each arc is one run (a set of `k` arcs has `k`
 /// junctions) and at every junction the radii agree within 25 % (a loop is
 /// continuous across a hole; a nearby part, e.g. an arm in the shadow it
 /// casts on the torso, lies at a different radius). The best set (largest
 /// gain) is joined first, until no set qualifies.
 ///
-/// Triples are needed where a loop is broken twice: a pair of its three
-/// arcs has one junction across the third arc's place, where the radii of
+/// Larger sets are needed where a loop is broken more than once: a pair of
+/// its arcs has one junction across the others' place, where the radii of
 /// an elongated loop (a torso at the shoulders, 2.7 : 1) legitimately
-/// differ by far more than 25 %.
+/// differ by far more than 25 %. The fewest arcs that qualify are joined
+/// first (sets of every size, so whether a loop is joined does not turn on
+/// how many pieces the cells' phase broke it into).
 ///
 /// Each arc is given as (a sample of its points for the decision, all its
 /// points); the joined point lists are returned.
@@ -57,16 +61,19 @@ pub(super) fn merge_arcs(
         };
         let pairs = (0..n).flat_map(|i| (i + 1..n).map(move |j| vec![i, j]));
         let mut best = best_of(pairs.collect());
-        if best.is_none() && n <= MAX_TRIPLE_ARCS {
-            let triples = (0..n)
-                .flat_map(|i| (i + 1..n).flat_map(move |j| (j + 1..n).map(move |k| vec![i, j, k])));
-            best = best_of(triples.collect());
+        if n <= MAX_SET_ARCS {
+            for size in 3..=n {
+                if best.is_some() {
+                    break;
+                }
+                best = best_of(subsets(n, size));
+            }
         }
         let Some((set, _)) = best else {
             return groups.into_iter().map(|g| g.1).collect();
         };
         // Highest index first, so the lower indices stay valid.
-        let (first, rest) = set.split_first().expect("a set holds two or three arcs");
+        let (first, rest) = set.split_first().expect("a set holds two arcs or more");
         for &j in rest.iter().rev() {
             let b = groups.swap_remove(j);
             covered.swap_remove(j);
@@ -77,9 +84,38 @@ pub(super) fn merge_arcs(
     }
 }
 
-/// Triples of arcs are tried only among at most this many arcs (`C(8, 3)
-/// = 56` sets; a slab of a body has a handful).
-const MAX_TRIPLE_ARCS: usize = 8;
+/// An arc covering at most this many bins about the joint centre is a
+/// fragment (see [`merge_gain`]).
+const FRAGMENT_BINS: usize = 2;
+
+/// Bins two arcs may share whatever their size: the bins of their ends
+/// where they meet across a hole narrower than a bin.
+const SHARED_END_BINS: Real = 2.0;
+
+/// Sets of three or more arcs are tried only among at most this many
+/// arcs (at most 219 sets; a slab of a body has a handful).
+const MAX_SET_ARCS: usize = 8;
+
+/// The `size`-element subsets of `0..n`, each ascending, in
+/// lexicographic order.
+fn subsets(n: usize, size: usize) -> Vec<Vec<usize>> {
+    let mut out = Vec::new();
+    let mut set: Vec<usize> = (0..size).collect();
+    if size == 0 || size > n {
+        return out;
+    }
+    loop {
+        out.push(set.clone());
+        // The last index that can still move right.
+        let Some(i) = (0..size).rev().find(|&i| set[i] < n - size + i) else {
+            return out;
+        };
+        set[i] += 1;
+        for j in i + 1..size {
+            set[j] = set[j - 1] + 1;
+        }
+    }
+}
 
 /// The centre used to order an arc: its fitted circle's centre, or its
 /// centroid when the fit fails or lands far away.
@@ -169,7 +205,8 @@ fn merge_gain(arcs: &[&[usize]], floor: usize, pts: &[Point2]) -> Option<usize> 
                 .zip(&bins[y])
                 .filter(|(p, q)| **p && **q)
                 .count();
-            if overlap as Real > 0.15 * count(&bins[x]).min(count(&bins[y])) as Real {
+            let smaller = count(&bins[x]).min(count(&bins[y])) as Real;
+            if overlap as Real > (0.15 * smaller).max(SHARED_END_BINS) {
                 return None;
             }
         }
@@ -177,7 +214,10 @@ fn merge_gain(arcs: &[&[usize]], floor: usize, pts: &[Point2]) -> Option<usize> 
     let merged = (0..COVERAGE_BINS)
         .filter(|&k| bins.iter().any(|b| b[k]))
         .count();
-    let gain = merged.checked_sub(floor + 2)?;
+    // A fragment a bin or two wide may add nothing to a loop nearly whole:
+    // it joins on its radii and short holes alone, as a larger set does.
+    let fragment = bins.iter().map(count).min().unwrap_or(0) <= FRAGMENT_BINS;
+    let gain = merged.checked_sub(floor + if fragment { 0 } else { 2 })?;
     // Radii at the junctions, in angular order about c.
     polar.sort_unstable_by(|x, y| x.0.total_cmp(&y.0));
     let n = polar.len();
@@ -200,10 +240,10 @@ fn merge_gain(arcs: &[&[usize]], floor: usize, pts: &[Point2]) -> Option<usize> 
             return None;
         }
     }
-    if arcs.len() > 2 {
-        // A loop broken more than once by small holes: every hole short
-        // against the loop (a torso arc joined to an arm's leaves a wide
-        // one).
+    if arcs.len() > 2 || fragment {
+        // A loop broken more than once by small holes, or a fragment in
+        // one: every hole short against the loop (a torso arc joined to an
+        // arm's leaves a wide one).
         let at = |k: usize| {
             let (a, r, _) = polar[k % n];
             Vec2::new(r * a.cos(), r * a.sin())
@@ -211,7 +251,7 @@ fn merge_gain(arcs: &[&[usize]], floor: usize, pts: &[Point2]) -> Option<usize> 
         let perimeter: Real = (0..n).map(|k| (at(k + 1) - at(k)).norm()).sum();
         if junctions
             .iter()
-            .any(|&k| (at(k + 1) - at(k)).norm() > MAX_TRIPLE_GAP * perimeter)
+            .any(|&k| (at(k + 1) - at(k)).norm() > MAX_SET_GAP * perimeter)
         {
             return None;
         }
@@ -220,8 +260,8 @@ fn merge_gain(arcs: &[&[usize]], floor: usize, pts: &[Point2]) -> Option<usize> 
 }
 
 /// The widest hole, as a fraction of the loop's perimeter, that a join of
-/// three arcs may bridge.
-const MAX_TRIPLE_GAP: Real = 0.02;
+/// three or more arcs may bridge.
+const MAX_SET_GAP: Real = 0.02;
 
 /// Orders by angle about the centre of the algebraic circle fit (falling
 /// back to the centroid), one bin per cell of arc at the mean radius.

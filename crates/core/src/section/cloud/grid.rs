@@ -14,9 +14,25 @@ pub(crate) struct Grid {
     pub(super) h: usize,
 }
 
+/// Where a grid over points starts, in cells below their lowest
+/// coordinate beyond its margin: the golden section's `(3 − √5)/2`, far
+/// from every simple fraction. The lowest point, and a scanner's points on
+/// a lattice of the cell size, would otherwise sit on the cells' edges,
+/// where a coordinate's last digit chose their cell (a nanometre's shift of
+/// a scan changed its model).
+const EDGE_OFFSET: Real = 0.381_966_011_250_105_1;
+
 impl Grid {
     pub(crate) fn new(origin: Vec2, cell: Real, w: usize, h: usize) -> Grid {
         Grid { origin, cell, w, h }
+    }
+
+    /// A `w` × `h` grid over points whose lowest coordinates are `min`,
+    /// with `margin` free cells below them (and their edges
+    /// [`EDGE_OFFSET`] of a cell off them).
+    pub(crate) fn below(min: Vec2, margin: usize, cell: Real, w: usize, h: usize) -> Grid {
+        let lead = (margin as Real + EDGE_OFFSET) * cell;
+        Grid::new(min - Vec2::new(lead, lead), cell, w, h)
     }
 
     pub(crate) fn cell(&self, p: Point2) -> usize {

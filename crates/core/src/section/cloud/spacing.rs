@@ -35,8 +35,13 @@ const NOISE_NEIGHBOURS: usize = 24;
 /// one jittered by less than the spacing), the middle of the nearest other
 /// cluster's distances stands for the nearest neighbour: the cloud keeps
 /// its spacing instead of taking the jitter's. At least [`NOISE_CELLS`]
-/// times the median [`local_noise`] of the same points.
-pub(super) fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real]) -> Option<Real> {
+/// times the median [`local_noise`] of the same points. Returns the
+/// spacing and that noise.
+pub(super) fn estimate_spacing(
+    points: &[Point3],
+    order: &[u32],
+    heights: &[Real],
+) -> Option<(Real, Real)> {
     let n = order.len();
     if n < 2 {
         return None;
@@ -85,7 +90,7 @@ pub(super) fn estimate_spacing(points: &[Point3], order: &[u32], heights: &[Real
             .collect()
     });
     let noise = median(&mut noise).unwrap_or(0.0);
-    (first > 0.0).then_some((2.0 * first).max(NOISE_CELLS * noise))
+    (first > 0.0).then_some(((2.0 * first).max(NOISE_CELLS * noise), noise))
 }
 
 /// The `k` points nearest the point of sorted rank `i` (of a different

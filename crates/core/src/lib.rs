@@ -36,9 +36,12 @@
 //! 5. **Surfaces** (`surface`): consecutive curves skinned by Hermite
 //!    [`Patch`]es into a [`Part`] ([`Part::new`]), closed by [`Cap`]s and
 //!    joined by transitions; [`tessellate_part`] makes a mesh of it.
-//! 6. **Body** (`body`): the parts, their transitions and cavities
-//!    assembled into a [`Body`], refined where the fit is poor, and judged
-//!    against the input (the [`Report`]: sizes, errors, distances).
+//! 6. **Body** (`body`): the parts, refined where the fit is poor, then
+//!    (a scan's by default, [`GlobalFitOptions`]) fitted to every input
+//!    point labelled with them by one least squares per round
+//!    ([`fit_part`]); their transitions and cavities assembled into a
+//!    [`Body`], and judged against the input (the [`Report`]: sizes,
+//!    errors, distances, what the fit did).
 //! 7. **Measurement** (`measure`): stature, girths, lengths, volume and
 //!    area of a model ([`measure_body`]) or of a mesh directly
 //!    ([`measure_mesh`]).
@@ -59,8 +62,8 @@ mod surface;
 pub use anatomy::{BodyFrame, BodyGeometry, Landmark, LandmarkKind, PartName};
 pub use body::{
     reconstruct, reconstruct_with_progress, Body, BodyCavity, BodyDigit, BodyPart, BodyTransition,
-    Progress, ReconstructError, ReconstructOptions, Report, SectionFit, Units, MAX_PRUNE_TOLERANCE,
-    MAX_SCAN_FRAMES,
+    FitMode, GlobalFitOptions, PartFit, Progress, ReconstructError, ReconstructOptions, Report,
+    SectionFit, Units, MAX_PRUNE_TOLERANCE, MAX_SCAN_FRAMES,
 };
 pub use curve::ellipse::{fit_ellipse, EllipseFit};
 pub use curve::fit::{
@@ -72,7 +75,9 @@ pub use curve::trig::{CurveError, Frame, SpaceCurve, TrigCurve};
 pub use geom::math::{Point2, Point3, Real, Vec2, Vec3};
 pub use geom::mesh::{Aabb, Mesh, MeshError, PointCloud};
 pub use geom::rigid::Rigid;
-pub use measure::compare::{compare_surfaces, CompareOptions, SurfaceComparison};
+pub use measure::compare::{
+    compare_surfaces, compare_surfaces_seen, CompareOptions, SurfaceComparison,
+};
 pub use measure::mesh::{
     measure_mesh, MeasureError, MeasureOptions, Measurement, MeasurementKind, Measurements,
 };
@@ -83,6 +88,7 @@ pub use spatial::cloud_clean::{clean_cloud, CleanOptions, CleanReport};
 pub use spatial::scanner::{virtual_scan, ScannerOptions};
 pub use surface::cap::{Cap, CapKind, DomeAxis};
 pub use surface::closed_skin::{check_closed, closed_skin, ClosedSkinError};
+pub use surface::fit::{fit_part, SurfaceFitOptions, SurfaceFitStats};
 pub use surface::part::{Part, PartError, PartOptions, Segment, Skinning};
 pub use surface::patch::{EndConditions, Patch, PatchError};
 pub use surface::tessellate::{

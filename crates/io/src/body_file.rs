@@ -264,7 +264,10 @@ pub fn report_part_names(report: &Report) -> Vec<String> {
 /// other pieces, left out of both distance directions: they measure the
 /// model's outer skin, see [`Report::interior_area_share`]), `parts` (per part: sections, orders {min, median, max},
 /// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
-/// worst E_a/E_M, design parameters), `parts_found`, `joints` (each joint
+/// worst E_a/E_M, design parameters), `fit` (per part fitted to the input:
+/// its points and those used, the residual RMS before and after in mm, how
+/// far its curves moved, RMS and largest, and the rounds taken;
+/// [`Report::fit`]), `parts_found`, `joints` (each joint
 /// centre's name and position in the input's coordinates) and `warnings`.
 pub fn report_json(report: &Report) -> Value {
     json!({
@@ -298,6 +301,16 @@ pub fn report_json(report: &Report) -> Value {
             "sections_meeting_tolerances": p.met,
             "ellipse": {"worst_ea": p.ellipse_worst_ea, "worst_em": p.ellipse_worst_em},
             "design_parameters": p.design_parameters,
+        })).collect::<Vec<_>>(),
+        "fit": report.fit.iter().map(|f| json!({
+            "name": f.name,
+            "points": f.points,
+            "used": f.used,
+            "rms_before_mm": f.rms_before_mm,
+            "rms_after_mm": f.rms_after_mm,
+            "moved_rms_mm": f.moved_rms_mm,
+            "moved_max_mm": f.moved_max_mm,
+            "rounds": f.rounds,
         })).collect::<Vec<_>>(),
         "parts_found": report.parts_found.iter().map(|p| part_file_name(*p)).collect::<Vec<_>>(),
         "joints": report.joints.iter().map(|(n, p)| (n.as_str().to_string(), json!(p.to_array()))).collect::<serde_json::Map<_, _>>(),

@@ -21,7 +21,7 @@ use pyo3::prelude::*;
 use trigbody_core::{
     fit_loop, fit_loop_2d, reconstruct as reconstruct_body, BodyGeometry, ReconstructOptions, Units,
 };
-use trigbody_core::{FitOptions, Mesh, OrderChoice, PointCloud, Real, Vec2, Vec3};
+use trigbody_core::{FitMode, FitOptions, Mesh, OrderChoice, PointCloud, Real, Vec2, Vec3};
 use trigbody_io::body_file::report_json;
 use trigbody_io::{read_geometry as read_file, Geometry, ReadOptions};
 
@@ -128,6 +128,7 @@ struct Options {
     em: Option<Real>,
     prune: Option<Real>,
     scan_frames: Option<usize>,
+    fit: Option<String>,
 }
 
 fn direction(name: &str, v: Option<[Real; 3]>) -> PyResult<Option<Vec3>> {
@@ -153,6 +154,18 @@ impl Options {
         o.fit.em = self.em.unwrap_or(o.fit.em);
         o.prune_tolerance = self.prune.unwrap_or(o.prune_tolerance);
         o.scan_frames = self.scan_frames.unwrap_or(o.scan_frames);
+        if let Some(fit) = &self.fit {
+            o.global_fit.mode = match fit.as_str() {
+                "auto" => FitMode::Scans,
+                "global" => FitMode::All,
+                "none" => FitMode::Off,
+                _ => {
+                    return Err(value_error(format!(
+                        "fit '{fit}' is not auto, global or none"
+                    )))
+                }
+            };
+        }
         o.segment.up = direction("up", self.up)?;
         o.segment.front = direction("front", self.front)?;
         Ok(o)

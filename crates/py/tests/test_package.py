@@ -165,6 +165,8 @@ def test_reconstruct_bad_options():
         trigbody.reconstruct(v, f, up=(0, 0, 0))
     with pytest.raises(ValueError, match="scan_frames"):
         trigbody.reconstruct(v, f, scan_frames=0)
+    with pytest.raises(ValueError, match="fit 'bogus' is not auto, global or none"):
+        trigbody.reconstruct(v, f, fit="bogus")
     with pytest.raises(ValueError, match="prune_tolerance"):
         trigbody.reconstruct(v, f, prune=-1.0)
 

@@ -89,6 +89,7 @@ use thiserror::Error;
 
 mod cavity;
 mod digits;
+mod fit;
 mod frames;
 mod plan;
 mod pose;
@@ -98,6 +99,7 @@ mod report;
 
 pub use cavity::*;
 pub use digits::*;
+pub use fit::{FitMode, GlobalFitOptions, PartFit};
 use plan::*;
 pub use report::*;
 
@@ -235,6 +237,9 @@ pub struct ReconstructOptions {
     /// kept (`body/frames.rs`); 1 reconstructs it once. Meshes are
     /// reconstructed once, in their own frame. Default 3.
     pub scan_frames: usize,
+    /// The parts fitted to every input point by least squares after they
+    /// are built (`body/fit.rs`).
+    pub global_fit: GlobalFitOptions,
 }
 
 impl Default for ReconstructOptions {
@@ -262,6 +267,7 @@ impl Default for ReconstructOptions {
             skin_depth: 0.0003,
             clean: CleanOptions::default(),
             scan_frames: 3,
+            global_fit: GlobalFitOptions::default(),
         }
     }
 }
@@ -748,7 +754,7 @@ fn build<'a>(
     // their first sections. The other parts are planned and built over
     // the cores; their warnings and steps are told in order after.
     let (limb_parts, with_torso) = limbs.parts(&mut warnings);
-    let (mut parts, digits) = build_limbs(&limbs, &limb_parts, input, &mut warnings, progress);
+    let (mut parts, mut digits) = build_limbs(&limbs, &limb_parts, input, &mut warnings, progress);
     if with_torso {
         shoulders = shoulders.with_arms(&parts);
         progress("sections: torso");
@@ -763,6 +769,15 @@ fn build<'a>(
             parts.insert(k, torso);
         }
     }
+    let (gf, fit_input) = (
+        &opts.global_fit,
+        fit::FitInput {
+            geometry: body,
+            height: h,
+            mm: opts.units.to_mm(),
+        },
+    );
+    let mut fitted = fit::fit_to_input(&mut parts, &mut digits, &fit_input, gf, None);
     progress("transitions");
     // At most twice: an arm whose side transition fails or strays loses it,
     // and the torso is cut again to reach into that arm instead.
@@ -795,6 +810,14 @@ fn build<'a>(
             if let Some(t) = parts.iter_mut().find(|p| p.name == PartName::Torso) {
                 *t = torso;
             }
+            let again =
+                fit::fit_to_input(&mut parts, &mut [], &fit_input, gf, Some(PartName::Torso));
+            for f in again {
+                match fitted.iter_mut().find(|g| g.name == f.name) {
+                    Some(g) => *g = f,
+                    None => fitted.push(f),
+                }
+            }
         }
     };
     progress("cavities");
@@ -809,7 +832,8 @@ fn build<'a>(
         cavities,
     };
     progress("measuring");
-    let report = measure_with(body, &model, seg0, opts, warnings, input)?;
+    let mut report = measure_with(body, &model, seg0, opts, warnings, input)?;
+    report.fit = fitted;
     Ok((model, report))
 }
 

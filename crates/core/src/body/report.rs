@@ -165,6 +165,10 @@ pub struct Report {
     /// (not on the outer skin), left out of both directions.
     pub interior_area_share: Real,
     pub parts: Vec<PartReport>,
+    /// What the fit to the input did to each part (`body/fit.rs`): the
+    /// residuals before and after and how far it moved the part; empty
+    /// when the fit is off.
+    pub fit: Vec<super::PartFit>,
     /// Parts the segmentation found (feet included).
     pub parts_found: Vec<PartName>,
     /// Joint centres estimated from the segmentation
@@ -464,6 +468,7 @@ pub(super) fn measure_with(
             0.0
         },
         parts: part_reports(model),
+        fit: Vec::new(),
         parts_found: seg.parts.iter().map(|p| p.name).collect(),
         joints: estimate_joints(body, seg),
         warnings,

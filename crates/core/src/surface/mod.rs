@@ -5,6 +5,7 @@
 
 pub mod cap;
 pub mod closed_skin;
+pub mod fit;
 pub mod local_skin;
 pub mod part;
 pub mod patch;

@@ -176,6 +176,7 @@ def reconstruct(
     em: Optional[float] = None,
     prune: Optional[float] = None,
     scan_frames: Optional[int] = None,
+    fit: Optional[str] = None,
 ) -> Tuple[Model, Report]:
     """Reconstructs a body model from a mesh (``faces`` given) or a scan.
 
@@ -187,7 +188,9 @@ def reconstruct(
     passes its loop within this fraction of the height; 0 keeps every
     section) and ``scan_frames`` (a scan is reconstructed in that
     many frames turned about its up axis, 1-6, and the model nearest it
-    kept) as ``trigbody reconstruct`` (None: its defaults).
+    kept) and ``fit`` ("auto": scans are fitted to their points by least
+    squares after the parts are built, "global": meshes too, "none") as
+    ``trigbody reconstruct`` (None: its defaults).
     Returns the model and its report, the same as ``trigbody reconstruct
     -o MODEL --report REPORT`` on a file holding the same geometry."""
     v = _float_array("vertices", vertices, (3,))
@@ -202,6 +205,7 @@ def reconstruct(
         "em": em,
         "prune": prune,
         "scan_frames": scan_frames,
+        "fit": fit,
     }
     model, report, seconds = _trigbody.reconstruct(v, f, n, options)
     return model, Report(report, seconds)

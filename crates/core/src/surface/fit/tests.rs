@@ -1,0 +1,241 @@
+use super::*;
+use crate::curve::trig::Frame;
+use crate::surface::part::PartOptions;
+
+/// A curve at height `z`, its plane tilted by `tilt` about x, with a few
+/// harmonics of its own.
+fn curve(z: Real, tilt: Real, k: Real) -> TrigCurve {
+    let frame = Frame::from_normal(
+        Point3::new(0.01 * k, z, 0.005 * k),
+        Vec3::new(0.0, tilt.cos(), tilt.sin()),
+        Vec3::X,
+    )
+    .unwrap();
+    let mut c = TrigCurve::circle(frame, 0.1 + 0.01 * k, 4);
+    c.a[5] = 0.004 * k;
+    c.b[4] = -0.003;
+    c.a[2] = 0.002 * (k - 1.0);
+    c
+}
+
+fn lumpy_part() -> Part {
+    let curves = (0..7)
+        .map(|k| {
+            curve(
+                0.05 * k as Real + 0.003 * (k * k) as Real,
+                0.05 * k as Real,
+                k as Real,
+            )
+        })
+        .collect();
+    Part::new(curves, &PartOptions::default()).unwrap()
+}
+
+/// Points on `part` at a grid of (s, v) inside its ends.
+fn samples(part: &Part, along: usize, around: usize) -> Vec<Point3> {
+    let l = part.length();
+    (0..along)
+        .flat_map(|i| {
+            let s = l * (0.01 + 0.98 * i as Real / (along - 1) as Real);
+            (0..around).map(move |j| {
+                part.point(
+                    s,
+                    std::f64::consts::TAU * (j as Real + 0.3) / around as Real,
+                )
+            })
+        })
+        .collect()
+}
+
+#[test]
+fn section_weights_reproduce_the_surface() {
+    let part = lumpy_part();
+    let sw = SectionWeights::of(&part).unwrap();
+    let l = part.length();
+    for i in 0..=40 {
+        let s = l * i as Real / 40.0;
+        for j in 0..12 {
+            let v = 0.5 * j as Real;
+            let sum = sw.at(s).iter().fold(Vec3::ZERO, |acc, &(m, w)| {
+                acc + part.curves()[m].point(v) * w
+            });
+            assert!(sum.distance(part.point(s, v)) < 1e-12, "s {s} v {v}");
+        }
+    }
+}
+
+#[test]
+fn the_fast_surface_is_the_part() {
+    let part = lumpy_part();
+    let surface = Surface::of(&part).unwrap();
+    let l = part.length();
+    for i in 0..=30 {
+        let s = l * i as Real / 30.0;
+        for j in 0..10 {
+            let v = 0.63 * j as Real;
+            let [p, ds, dv] = surface.eval(s, v);
+            assert!(p.distance(part.point(s, v)) < 1e-12);
+            assert!(ds.distance(part.derivative(s, v, 1, 0)) < 1e-9, "s {s}");
+            assert!(dv.distance(part.derivative(s, v, 0, 1)) < 1e-12);
+        }
+        assert!(surface.centre(s).distance(part.centre(s)) < 1e-12);
+    }
+}
+
+#[test]
+fn projection_finds_the_foot() {
+    let part = lumpy_part();
+    let grid = PartGrid::new(&part, 64, 3);
+    let tree = MeshDistance::new(grid.mesh());
+    let surface = Surface::of(&part).unwrap();
+    let l = part.length();
+    for (s, v) in [(0.3 * l, 1.0), (0.77 * l, 4.0), (0.5 * l, 6.0)] {
+        let on = part.point(s, v);
+        let n = part
+            .derivative(s, v, 1, 0)
+            .cross(part.derivative(s, v, 0, 1))
+            .normalized()
+            .unwrap();
+        let outward = if n.dot(on - part.centre(s)) > 0.0 {
+            n
+        } else {
+            -n
+        };
+        let foot = project(&surface, &grid, &tree, on + outward * 0.004).unwrap();
+        assert!(
+            (foot.s - s).abs() < 1e-6 && (foot.v - v).abs() < 1e-6,
+            "{foot:?}"
+        );
+        assert!((foot.signed - 0.004).abs() < 1e-12 && !foot.at_end);
+        let inside = project(&surface, &grid, &tree, on - outward * 0.003).unwrap();
+        assert!((inside.signed + 0.003).abs() < 1e-12);
+    }
+    let past = project(
+        &surface,
+        &grid,
+        &tree,
+        part.point(l, 1.0) + (part.point(l, 1.0) - part.point(0.9 * l, 1.0)),
+    );
+    assert!(past.unwrap().at_end);
+}
+
+#[test]
+fn a_part_fitted_to_its_own_points_does_not_move() {
+    let part = lumpy_part();
+    let points = samples(&part, 60, 48);
+    let weights = vec![1.0; points.len()];
+    let opts = SurfaceFitOptions {
+        min_cutoff: 0.01,
+        ..SurfaceFitOptions::default()
+    };
+    let (_, stats) = fit_part(&part, &points, &weights, &opts);
+    assert!(stats.moved_max < 1e-9, "{stats:?}");
+    assert!(stats.rms_after < 1e-9);
+}
+
+#[test]
+fn sinusoids_on_a_cylinder_give_back_their_coefficients() {
+    // The same curve every 0.1 along z: the skinned surface is its
+    // extrusion, and points on it are fitted from circles.
+    let truth = |z: Real| {
+        let mut c = TrigCurve::circle(
+            Frame::from_normal(Point3::new(0.0, 0.0, z), Vec3::Z, Vec3::X).unwrap(),
+            0.12,
+            4,
+        );
+        c.a[3] = 0.006;
+        c.b[4] = -0.004;
+        c.a[8] = 0.002;
+        c.b[5] = 0.003;
+        c
+    };
+    let options = PartOptions::default();
+    let target = Part::new((0..6).map(|k| truth(0.1 * k as Real)).collect(), &options).unwrap();
+    let start = Part::new(
+        (0..6)
+            .map(|k| {
+                TrigCurve::circle(
+                    Frame::from_normal(Point3::new(0.0, 0.0, 0.1 * k as Real), Vec3::Z, Vec3::X)
+                        .unwrap(),
+                    0.11,
+                    4,
+                )
+            })
+            .collect(),
+        &options,
+    )
+    .unwrap();
+    let points = samples(&target, 80, 64);
+    let weights = vec![1.0; points.len()];
+    let opts = SurfaceFitOptions {
+        // Little damping: the exact answer in a few rounds.
+        rounds: 20,
+        pull: 1e-7,
+        anchor: 0.0,
+        min_cutoff: 0.05,
+        ..SurfaceFitOptions::default()
+    };
+    let (fitted, stats) = fit_part(&start, &points, &weights, &opts);
+    assert!(stats.rms_after < 1e-7, "{stats:?}");
+    // Points fix a curve's shape, not where its parameter starts: the
+    // coefficients compare after the best phase shift.
+    for (got, want) in fitted.sections().iter().zip(target.sections()) {
+        let got = got.shifted(crate::surface::part::best_phase_shift(
+            &want.world_series(),
+            &got.world_series(),
+        ));
+        for (g, w) in got.a.iter().chain(&got.b).zip(want.a.iter().chain(&want.b)) {
+            assert!((g - w).abs() < 1e-6, "{:?} vs {:?}", got.a, want.a);
+        }
+    }
+}
+
+#[test]
+fn far_outliers_move_nothing() {
+    let part = lumpy_part();
+    let mut points = samples(&part, 60, 50);
+    // 2 % of the points 0.2 away, in every direction.
+    for (k, i) in (0..points.len()).step_by(50).enumerate() {
+        let a = k as Real * 2.399;
+        points[i] += Vec3::new(a.cos(), 0.3 * a.sin(), a.sin())
+            * (0.2 / (1.0 + 0.09 * a.sin().powi(2)).sqrt());
+    }
+    let weights = vec![1.0; points.len()];
+    let opts = SurfaceFitOptions {
+        min_cutoff: 0.005,
+        ..SurfaceFitOptions::default()
+    };
+    let (_, stats) = fit_part(&part, &points, &weights, &opts);
+    assert!(stats.moved_max < 1e-4, "{stats:?}");
+}
+
+#[test]
+fn band_cholesky_solves_a_banded_system() {
+    // A tridiagonal system with a known solution.
+    let n = 9;
+    let mut band = Band::new(n, 2);
+    for i in 0..n {
+        *band.at(i, i) = 4.0;
+        if i > 0 {
+            *band.at(i, i - 1) = -1.0;
+        }
+        if i > 1 {
+            *band.at(i, i - 2) = 0.5;
+        }
+    }
+    let x: Vec<Real> = (0..n).map(|i| i as Real - 3.0).collect();
+    let b: Vec<Real> = (0..n)
+        .map(|i| {
+            (i.saturating_sub(2)..(i + 3).min(n))
+                .map(|j| {
+                    let (r, c) = (i.max(j), i.min(j));
+                    band.get(r, c) * x[j]
+                })
+                .sum()
+        })
+        .collect();
+    let got = band.solve(b).unwrap();
+    for (g, w) in got.iter().zip(&x) {
+        assert!((g - w).abs() < 1e-12);
+    }
+}

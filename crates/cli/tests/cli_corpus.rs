@@ -306,12 +306,14 @@ fn a_turned_and_moved_mesh_or_scan_is_judged_as_given() {
 /// in their fourth digit (body_033: 1.3819 against 1.3815 mm). A scan's
 /// fit to its points labels each point with its nearest part: a point on
 /// a tie or a junction's bound goes either way under rounding, so a
-/// scan's numbers agree within 0.5 % (body_004_scan: p95 2.934 against
-/// 2.921 mm, RMS within 0.07 %), the bar for a turned scan.
+/// scan's numbers agree within 0.5 % (body_004_scan: RMS 2.280 against
+/// 2.282 mm, p95 2.951 against 2.960), the bar for a turned scan,
+/// and its shares within a tenth of a percentage point (far 0.95 against
+/// 1.00 %).
 fn same_row(a: &[String], b: &[String]) {
     assert_eq!(a.len(), b.len());
     let scan = a.get(3).is_some_and(|s| s == "true");
-    let (relative, absolute) = if scan { (5e-3, 3e-4) } else { (2e-3, 1e-4) };
+    let (relative, absolute) = if scan { (5e-3, 1e-3) } else { (2e-3, 1e-4) };
     for (x, y) in a.iter().zip(b) {
         match (x.parse::<f64>(), y.parse::<f64>()) {
             (Ok(p), Ok(q)) if x.contains('.') => assert!(

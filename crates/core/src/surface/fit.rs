@@ -22,7 +22,7 @@ use crate::spatial::distance::MeshDistance;
 /// Options of [`fit_part`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceFitOptions {
-    /// Rounds of projection and solve. Default 4.
+    /// Rounds of projection and solve. Default 3.
     pub rounds: usize,
     /// Weight of the second differences of the sections' coefficients
     /// along the part, relative to the data's weight per section. Default
@@ -58,7 +58,7 @@ pub struct SurfaceFitOptions {
 impl Default for SurfaceFitOptions {
     fn default() -> Self {
         SurfaceFitOptions {
-            rounds: 4,
+            rounds: 3,
             smoothness: 0.01,
             pull: 0.1,
             tangential: 0.0,
@@ -144,16 +144,15 @@ impl PartGrid {
     }
 
     /// The grid [`project`] starts from: 3 rows a segment, around it 8
-    /// per harmonic of the highest order and 32 more.
+    /// per harmonic of the highest order (at most 16) and 32 more.
     pub fn for_part(part: &Part) -> PartGrid {
-        let around = part
+        let order = part
             .curves()
             .iter()
             .map(TrigCurve::order)
             .max()
-            .unwrap_or(1)
-            * 8
-            + 32;
+            .unwrap_or(1);
+        let around = order.min(16) * 8 + 32;
         PartGrid::new(part, around, 3)
     }
 
@@ -201,7 +200,6 @@ pub fn project(
         |k: usize| wa * grid.params[ia][k] + wb * grid.params[ib][k] + wc * grid.params[ic][k];
     let (mut s, mut v) = (param(0), param(1));
     let length = surface.length();
-    let mut at_end = false;
     let mut e = surface.eval(s, v);
     for _ in 0..3 {
         let [point, ss, sv] = e;
@@ -214,15 +212,28 @@ pub fn project(
         let (r1, r2) = (ss.dot(d), sv.dot(d));
         let (ds, dv) = ((m22 * r1 - m12 * r2) / det, (m11 * r2 - m12 * r1) / det);
         let next = s + ds;
-        at_end = !(next > 0.0 && next < length);
-        s = next.clamp(0.0, length);
-        v += dv;
-        e = surface.eval(s, v);
-        if (ds * ds * m11 + dv * dv * m22) < 1e-24 * (1.0 + d.norm_squared()) {
+        // Past an end: onto the end's rim, the step around it alone.
+        let (ns, nv) = if next > 0.0 && next < length {
+            (next, v + dv)
+        } else {
+            (next.clamp(0.0, length), v + r2 / m22)
+        };
+        let ne = surface.eval(ns, nv);
+        // A step that leads away (past a fold of a strongly curved end,
+        // where the linearisation is poor) is not taken.
+        if (p - ne[0]).norm_squared() > d.norm_squared() {
+            break;
+        }
+        (s, v, e) = (ns, nv, ne);
+        if ds * ds * m11 + dv * dv * m22 <= 1e-20 * d.norm_squared() {
             break;
         }
     }
     let [point, ss, sv] = e;
+    // On an end, with the point beyond it along the part.
+    let along = ss.dot(p - point);
+    let rim = 1e-9 * length;
+    let at_end = (s <= rim && along < 0.0) || (s >= length - rim && along > 0.0);
     let mut normal = ss.cross(sv).normalized()?;
     if normal.dot(point - surface.centre(s)) < 0.0 {
         normal = -normal;
@@ -462,8 +473,11 @@ fn basis(v: Real, order: usize, x: &mut Vec<Real>, y: &mut Vec<Real>) {
     y.clear();
     x.push(1.0);
     y.push(1.0);
-    for j in 1..=order {
-        let (sin, cos) = (j as Real * v).sin_cos();
+    // cos jv and sin jv by the angle-sum recurrence from one sin_cos.
+    let (s1, c1) = v.sin_cos();
+    let (mut cos, mut sin) = (1.0, 0.0);
+    for _ in 1..=order {
+        (cos, sin) = (cos * c1 - sin * s1, sin * c1 + cos * s1);
         x.extend([cos, sin]);
         y.extend([sin, cos]);
     }

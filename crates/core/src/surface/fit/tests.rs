@@ -117,6 +117,23 @@ fn projection_finds_the_foot() {
         part.point(l, 1.0) + (part.point(l, 1.0) - part.point(0.9 * l, 1.0)),
     );
     assert!(past.unwrap().at_end);
+    // Anywhere around the part, near or far, past the ends too: the foot
+    // is never farther than the grid's nearest point but for the grid's
+    // own chordal error (a Gauss-Newton step that leads away, past a
+    // strongly curved end, is not taken: such steps once gave feet 24 cm
+    // away).
+    let mut rng = crate::geom::rng::Rng::new(7);
+    for _ in 0..2000 {
+        let q = Point3::new(rng.gaussian(), rng.gaussian(), rng.gaussian()) * 0.15
+            + part.centre(l * 0.5)
+            + Vec3::new(0.0, 0.25 * rng.gaussian(), 0.0);
+        let foot = project(&surface, &grid, &tree, q).unwrap();
+        let grid_best = tree.closest(q).unwrap().distance;
+        assert!(
+            q.distance(foot.point) <= grid_best + 1e-3,
+            "{q:?}: {foot:?} vs {grid_best}"
+        );
+    }
 }
 
 #[test]

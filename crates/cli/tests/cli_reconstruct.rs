@@ -188,3 +188,70 @@ fn bad_input_exits_2_naming_the_file_and_what_was_not_found() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no-such-body.obj"));
 }
+
+/// A scan is fitted to its points by default: the report (text and JSON)
+/// says per part what the fit did, `--fit none` leaves it out, and a mesh
+/// is not fitted unless asked (`--fit global`). The scan is a virtual scan
+/// of the built-in body, so the test runs on a fresh machine.
+#[test]
+fn a_scan_is_fitted_to_its_points_and_the_report_says_how() {
+    let d = dir("fit");
+    let body = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/bodies/mh_male.obj");
+    trigbody()
+        .current_dir(&d)
+        .arg("scan")
+        .arg(&body)
+        .args(["-o", "scan.ply", "--points", "60000", "--seed", "3"])
+        .assert()
+        .success();
+    let run = |fit: &str, input: &str| {
+        let out = trigbody()
+            .current_dir(&d)
+            .args(["reconstruct", input, "--scan-frames", "1", "--fit", fit])
+            .args(["--report", "r.json", "--force"])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let report: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(d.join("r.json")).unwrap()).unwrap();
+        (String::from_utf8_lossy(&out.stdout).to_string(), report)
+    };
+    let (text, fitted) = run("auto", "scan.ply");
+    let fits = fitted["fit"].as_array().unwrap();
+    assert!(fits.len() >= 6, "{fitted}");
+    for f in fits {
+        let (before, after) = (
+            f["rms_before_mm"].as_f64().unwrap(),
+            f["rms_after_mm"].as_f64().unwrap(),
+        );
+        assert!(after <= before * 1.001 && after > 0.0, "{f}");
+        assert!(
+            f["used"].as_u64().unwrap() > 0 && f["moved_max_mm"].as_f64().unwrap() < 30.0,
+            "{f}"
+        );
+    }
+    assert!(text.contains("fitted to the input"), "{text}");
+    let (_, plain) = run("none", "scan.ply");
+    assert!(plain["fit"].as_array().unwrap().is_empty());
+    assert!(
+        fitted["distance_mm"]["rms"].as_f64().unwrap()
+            < plain["distance_mm"]["rms"].as_f64().unwrap(),
+        "the fit brings the model nearer the points"
+    );
+    let body = body.to_string_lossy().to_string();
+    let (text, mesh) = run("auto", &body);
+    assert!(mesh["fit"].as_array().unwrap().is_empty() && !text.contains("fitted to the input"));
+    let (_, mesh_fitted) = run("global", &body);
+    assert!(mesh_fitted["fit"].as_array().unwrap().len() >= 6);
+    // A bad value names the flag.
+    let bad = trigbody()
+        .args(["reconstruct", "--fit", "sometimes"])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--fit"));
+}

@@ -14,7 +14,7 @@ use crate::anatomy::{BodyGeometry, PartName};
 use crate::geom::math::{Point3, Real};
 use crate::spatial::distance::{sample_surface_on_triangles, MeshDistance};
 use crate::surface::fit::{
-    fit_part, project, Foot, PartGrid, Surface, SurfaceFitOptions, SurfaceFitStats,
+    fit_part_from, project, Foot, PartGrid, Surface, SurfaceFitOptions, SurfaceFitStats,
 };
 use crate::surface::part::Part;
 use rayon::prelude::*;
@@ -172,20 +172,22 @@ pub(super) fn fit_to_input(
     let fitted: Vec<(usize, Part, SurfaceFitStats)> = chosen
         .par_iter()
         .map(|&i| {
-            let labelled = labels.iter().filter(|l| **l == Some(i)).count();
+            let mine = |l: &Option<(usize, Foot)>| l.is_some_and(|(part, _)| part == i);
+            let labelled = labels.iter().filter(|l| mine(l)).count();
             let cap = opts.points_per_section * solids[i].sections().len();
             // Each point kept or not by its own index, so one point
             // labelled otherwise changes nothing else.
             let share = cap as Real / labelled.max(1) as Real;
-            let mine: Vec<Point3> = labels
+            // Their feet on the part, found in labelling, start the fit.
+            let (taken, feet): (Vec<Point3>, Vec<Option<Foot>>) = labels
                 .iter()
                 .zip(&points)
                 .enumerate()
-                .filter(|&(k, (l, _))| *l == Some(i) && kept(k, share))
-                .map(|(_, (_, (p, _)))| *p)
-                .collect();
-            let weights = vec![1.0; mine.len()];
-            let (part, stats) = fit_part(solids[i], &mine, &weights, &surface);
+                .filter(|&(k, (l, _))| mine(l) && kept(k, share))
+                .map(|(_, (l, (p, _)))| (*p, l.map(|(_, f)| f)))
+                .unzip();
+            let weights = vec![1.0; taken.len()];
+            let (part, stats) = fit_part_from(solids[i], &taken, feet, &weights, &surface);
             (i, part, stats)
         })
         .collect();
@@ -220,7 +222,8 @@ fn input_points(input: BodyGeometry<'_>, mesh_samples: usize) -> Vec<(Point3, Op
     }
 }
 
-/// Each point's part (an index into `solids`), or `None` where no part
+/// Each point's part (an index into `solids`) and its foot there, or
+/// `None` where no part
 /// may take it: nearest to no part within the reach, past its nearest
 /// part's end, within the junction distance of (or inside) another part,
 /// or (a mesh's samples) on a surface turned more than 60° from the
@@ -230,7 +233,7 @@ fn label(
     points: &[(Point3, Option<Point3>)],
     height: Real,
     opts: &GlobalFitOptions,
-) -> Vec<Option<usize>> {
+) -> Vec<Option<(usize, Foot)>> {
     let grids: Vec<PartGrid> = solids.par_iter().map(|p| PartGrid::for_part(p)).collect();
     let surfaces: Vec<Option<Surface<'_>>> = solids.iter().map(|p| Surface::of(p)).collect();
     let trees: Vec<MeshDistance<'_>> = grids.iter().map(|g| MeshDistance::new(g.mesh())).collect();
@@ -276,7 +279,7 @@ fn label(
             if normal.is_some_and(|n| n.dot(foot.normal).abs() < 0.5) {
                 return None;
             }
-            Some(best)
+            Some((best, foot))
         })
         .collect()
 }

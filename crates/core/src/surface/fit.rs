@@ -32,11 +32,6 @@ pub struct SurfaceFitOptions {
     /// current value with this share of the weight the data and the
     /// smoothness give it. Default 0.1.
     pub pull: Real,
-    /// Weight of the point-to-point residual across the normal, relative
-    /// to the residual along it: holds each point's foot where it is, so
-    /// curves' parameters cannot drift along them. Default 0 (it slows the
-    /// convergence, and the pull already holds the parameters).
-    pub tangential: Real,
     /// The highest harmonic fitted; a curve's higher ones are kept as
     /// built. Default 12.
     pub max_order: usize,
@@ -61,7 +56,6 @@ impl Default for SurfaceFitOptions {
             rounds: 3,
             smoothness: 0.01,
             pull: 0.1,
-            tangential: 0.0,
             anchor: 0.01,
             max_order: 12,
             huber: 1.345,
@@ -146,13 +140,7 @@ impl PartGrid {
     /// The grid [`project`] starts from: 3 rows a segment, around it 8
     /// per harmonic of the highest order (at most 16) and 32 more.
     pub fn for_part(part: &Part) -> PartGrid {
-        let order = part
-            .curves()
-            .iter()
-            .map(TrigCurve::order)
-            .max()
-            .unwrap_or(1);
-        let around = order.min(16) * 8 + 32;
+        let around = highest_order(part).min(16) * 8 + 32;
         PartGrid::new(part, around, 3)
     }
 
@@ -167,6 +155,15 @@ impl PartGrid {
     }
 }
 
+/// The highest order among a part's curves.
+fn highest_order(part: &Part) -> usize {
+    part.curves()
+        .iter()
+        .map(TrigCurve::order)
+        .max()
+        .unwrap_or(1)
+}
+
 /// A point's nearest point on a part.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Foot {
@@ -175,8 +172,6 @@ pub struct Foot {
     pub point: Point3,
     /// The outward unit normal there (away from the part's centre line).
     pub normal: Vec3,
-    /// The unit tangent around the part there (along `v`).
-    pub tangent: Vec3,
     /// The point's distance along `normal` (negative inside).
     pub signed: Real,
     /// The foot sits on an end of the part (the point lies past it).
@@ -238,13 +233,11 @@ pub fn project(
     if normal.dot(point - surface.centre(s)) < 0.0 {
         normal = -normal;
     }
-    let tangent = (sv - normal * normal.dot(sv)).normalized()?;
     Some(Foot {
         s,
         v: v.rem_euclid(std::f64::consts::TAU),
         point,
         normal,
-        tangent,
         signed: (p - point).dot(normal),
         at_end,
     })
@@ -273,12 +266,7 @@ impl<'a> Surface<'a> {
                     .to_world(crate::geom::math::Vec2::new(c.a[0], c.b[0]))
             })
             .collect();
-        let order = part
-            .curves()
-            .iter()
-            .map(TrigCurve::order)
-            .max()
-            .unwrap_or(1);
+        let order = highest_order(part);
         Some(Surface {
             part,
             weights,
@@ -592,22 +580,24 @@ impl Layout {
     }
 }
 
-/// The row over the unknowns of a surface point's motion along `direction`
-/// (at parameter `v`, the sections weighing `weights`).
+/// The row over the unknowns of a point's residual along its foot's
+/// normal (the sections weighing `weights` at the foot).
 fn data_row(
     curves: &[TrigCurve],
     layout: &Layout,
     weights: &[(usize, Real)],
-    v: Real,
-    direction: Vec3,
+    foot: &Foot,
     row: &mut Vec<(usize, Real)>,
 ) {
     let (mut x, mut y) = (Vec::new(), Vec::new());
     row.clear();
     for &(m, w) in weights {
         let c = &curves[m];
-        basis(v, (layout.len[m] - 1) / 2, &mut x, &mut y);
-        let (n1, n2) = (direction.dot(c.frame.e1) * w, direction.dot(c.frame.e2) * w);
+        basis(foot.v, (layout.len[m] - 1) / 2, &mut x, &mut y);
+        let (n1, n2) = (
+            foot.normal.dot(c.frame.e1) * w,
+            foot.normal.dot(c.frame.e2) * w,
+        );
         row.extend(
             x.iter()
                 .enumerate()
@@ -715,6 +705,19 @@ pub fn fit_part(
     weights: &[Real],
     opts: &SurfaceFitOptions,
 ) -> (Part, SurfaceFitStats) {
+    fit_part_from(part, points, feet(part, points), weights, opts)
+}
+
+/// [`fit_part`] with the points' feet on `part` already found (as
+/// [`project`] on [`PartGrid::for_part`] finds them: labelling did).
+pub(crate) fn fit_part_from(
+    part: &Part,
+    points: &[Point3],
+    first_feet: Vec<Option<Foot>>,
+    weights: &[Real],
+    opts: &SurfaceFitOptions,
+) -> (Part, SurfaceFitStats) {
+    let mut first_feet = Some(first_feet);
     let mut stats = SurfaceFitStats {
         points: points.len(),
         ..SurfaceFitStats::default()
@@ -724,7 +727,7 @@ pub fn fit_part(
     let mut mask: Option<Vec<bool>> = None;
     let mut last_rms = Real::INFINITY;
     for round in 0..=opts.rounds {
-        let feet = feet(&current, points);
+        let feet = first_feet.take().unwrap_or_else(|| feet(&current, points));
         let usable =
             |i: usize| feet[i].filter(|f| !f.at_end && weights.get(i).is_some_and(|&w| w > 0.0));
         let sigma = robust_scale((0..points.len()).filter_map(|i| usable(i).map(|f| f.signed)));
@@ -753,7 +756,6 @@ pub fn fit_part(
         }
         let round = Round {
             start: part.sections(),
-            targets: points,
             feet: &feet,
             inside: &inside,
             weights,
@@ -774,7 +776,6 @@ pub fn fit_part(
 struct Round<'a> {
     /// The sections the fit started from.
     start: &'a [TrigCurve],
-    targets: &'a [Point3],
     feet: &'a [Option<Foot>],
     inside: &'a [bool],
     weights: &'a [Real],
@@ -804,24 +805,10 @@ impl Round<'_> {
                 self.huber / r.abs()
             };
             let w = self.weights[i] * huber;
-            let at = sw.at(foot.s);
-            // Along the normal: the residual; across it (when asked), a
-            // little point-to-point, which holds each point's foot.
-            let across = foot.normal.cross(foot.tangent);
-            for (direction, weight) in [
-                (foot.normal, w),
-                (foot.tangent, opts.tangential * w),
-                (across, opts.tangential * w),
-            ] {
-                if weight == 0.0 {
-                    continue;
-                }
-                data_row(curves, &layout, &at, foot.v, direction, &mut row);
-                band.add_outer(&row, weight);
-                let r = (self.targets[i] - foot.point).dot(direction);
-                for &(k, x) in &row {
-                    rhs[k] += weight * x * r;
-                }
+            data_row(curves, &layout, &sw.at(foot.s), &foot, &mut row);
+            band.add_outer(&row, w);
+            for &(k, x) in &row {
+                rhs[k] += w * x * r;
             }
             total += w;
         }

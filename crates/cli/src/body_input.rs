@@ -21,7 +21,7 @@ use trigbody_core::internals::measure::model::compare_with_mesh;
 use trigbody_core::reconstruct_with_progress;
 use trigbody_core::{measure_body, ModelMeasureOptions};
 use trigbody_core::{measure_mesh, MeasureOptions, Measurements};
-use trigbody_core::{Body, BodyGeometry, Units};
+use trigbody_core::{validate_input, Body, BodyGeometry, Units};
 use trigbody_core::{Mesh, ReconstructOptions, TessellationOptions};
 use trigbody_io::body_file::body_of_model;
 use trigbody_io::model::{merge_pieces, Model};
@@ -61,15 +61,12 @@ pub struct LoadedBody {
     pub input: Option<Geometry>,
 }
 
-/// The unit an input is in, and the option that sets it (for messages).
-#[derive(Clone, Copy, Debug)]
-pub struct InputUnits {
-    pub units: Units,
-    pub flag: &'static str,
-}
+/// The unit an input is in: given, or `None` to infer it from the input's
+/// extent ([`trigbody_core::validate_input`]).
+pub type InputUnits = Option<Units>;
 
 /// A model file as read, or an input reconstructed with default options
-/// (after [`crate::plausible::check_body_input`]).
+/// (the library checks it is one body in its unit first).
 pub fn load_body(path: &Path, read: &ReadOptions, units: InputUnits) -> Result<LoadedBody> {
     if is_model_file(path) {
         return Ok(LoadedBody {
@@ -78,21 +75,19 @@ pub fn load_body(path: &Path, read: &ReadOptions, units: InputUnits) -> Result<L
         });
     }
     let geometry = crate::input_file::read_geometry(path, read)?;
-    let name = path.display().to_string();
-    crate::plausible::check_body_input(&name, &geometry, units.units, units.flag)?;
     let g = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),
     };
     let mut bar = crate::progress::ProgressBar::new("reconstructing");
     let options = ReconstructOptions {
-        units: units.units,
+        units: units.unwrap_or_default(),
+        infer_units: units.is_none(),
         ..ReconstructOptions::default()
     };
     let result = reconstruct_with_progress(g, &options, &mut |p| bar.update(p));
     bar.finish();
-    let (body, _) =
-        result.map_err(|e| bad(format!("{}: reconstructing the body: {e}", path.display())))?;
+    let (body, _) = result.map_err(|e| bad(format!("{}: {e}", path.display())))?;
     Ok(LoadedBody {
         body,
         input: Some(geometry),
@@ -152,12 +147,12 @@ impl Measured {
     }
 }
 
-/// A body's measurements, what they were taken on, and the model file's
-/// unit (`None` for an input: its unit is not known).
+/// A body's measurements, what they were taken on, and the unit they are
+/// in (a model file's own; an input's as given or inferred).
 pub struct BodyMeasurements {
     pub measurements: Measurements,
     pub measured: Measured,
-    pub units: Option<Units>,
+    pub units: Units,
 }
 
 /// The measurements of a body (see the module doc); `compare` names a mesh
@@ -184,7 +179,11 @@ pub fn measurements(
             )));
         }
         let geometry = crate::input_file::read_geometry(path, read)?;
-        crate::plausible::check_body_input(&file.to_string(), &geometry, units.units, units.flag)?;
+        let units = match &geometry {
+            Geometry::Mesh(m) => validate_input(BodyGeometry::Mesh(m), units),
+            Geometry::Points(c) => validate_input(BodyGeometry::Cloud(c), units),
+        }
+        .map_err(|e| bad(format!("{file}: {e}")))?;
         let mesh = match geometry {
             Geometry::Mesh(mesh) => mesh,
             Geometry::Points(_) => {
@@ -199,7 +198,7 @@ pub fn measurements(
         return Ok(BodyMeasurements {
             measurements: m,
             measured: Measured::Direct,
-            units: None,
+            units,
         });
     }
     let loaded = load_body(path, read, units)?;
@@ -220,7 +219,7 @@ pub fn measurements(
     Ok(BodyMeasurements {
         measurements: m,
         measured,
-        // A model file knows its unit; an input's unit is not known here.
-        units: (measured == Measured::Model).then_some(loaded.body.units),
+        // A model file's unit, or the input's as given or inferred.
+        units: loaded.body.units,
     })
 }

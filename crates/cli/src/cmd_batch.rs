@@ -5,7 +5,10 @@
 //! `OUTDIR/summary.jsonl` and `OUTDIR/summary.csv`, one row per input.
 //!
 //! * An input is a file, a folder (its mesh and scan files, not recursive)
-//!   or a glob pattern (`*`, `?`, `[…]`, `**` for any depth).
+//!   or a glob pattern (`*`, `?`, `[…]`, `**` for any depth); or each row
+//!   of a `--manifest` CSV, with options of its own (`batch_manifest.rs`).
+//! * Each input is checked by the library before it is modelled (its unit,
+//!   one body): a row fails with the message `reconstruct` gives.
 //! * A failing input (unreadable, no body, a panic) is a row with its error,
 //!   never the end of the run. Exit 0 when every input is done, 2 when some
 //!   failed on bad input, 1 when one failed internally.
@@ -13,6 +16,7 @@
 //!   a temporary file and renamed, so one that exists is complete) and
 //!   replaces the leftovers of an input that stopped half way.
 
+use crate::batch_manifest::{read_manifest, Overrides};
 use crate::cmd_mesh::SkinFlag;
 use crate::cmd_reconstruct::{write_outputs, BodyFlags, Outputs};
 use crate::exit::{bad, code_of, print};
@@ -44,8 +48,13 @@ pub enum MeshExt {
 pub struct BatchArgs {
     /// Meshes (.obj, .ply, .stl) and scans (.ply points, .xyz): files,
     /// folders (their mesh and scan files) or glob patterns ("scans/**/*.ply").
-    #[arg(required = true, value_name = "INPUTS")]
+    #[arg(required_unless_present = "manifest", value_name = "INPUTS")]
     pub inputs: Vec<String>,
+    /// A CSV of the inputs with options of their own: columns `path`
+    /// (relative to the manifest's folder) and optionally `units` (m, cm,
+    /// mm, auto), `up` and `front`; an empty cell takes the command line's.
+    #[arg(long, value_name = "CSV", conflicts_with = "inputs")]
+    pub manifest: Option<PathBuf>,
     /// The folder to write into (created when missing).
     #[arg(short, long, value_name = "OUTDIR")]
     pub output: PathBuf,
@@ -78,7 +87,9 @@ pub struct Row {
     /// Exit code class of the failure: 2 bad input, 1 internal.
     #[serde(skip)]
     pub code: u8,
-    pub units: &'static str,
+    /// The unit used: given, or inferred (`--units auto`); what was asked
+    /// for when the input failed before its unit was known.
+    pub units: String,
     pub seconds: Option<f64>,
     pub parts: Option<usize>,
     pub design_parameters: Option<u64>,
@@ -98,6 +109,8 @@ pub struct Row {
 #[derive(Debug, Clone)]
 struct Job {
     input: PathBuf,
+    /// Options of this input's own (`--manifest`).
+    overrides: Overrides,
     model: PathBuf,
     report: PathBuf,
     mesh: Option<PathBuf>,
@@ -168,10 +181,14 @@ pub fn expand_inputs(inputs: &[String], outdir: &Path) -> Result<Vec<PathBuf>> {
 
 /// The jobs of `files` in `outdir`; two inputs whose outputs would share a
 /// name (the same stem in two folders or formats) are refused.
-fn jobs(files: Vec<PathBuf>, outdir: &Path, mesh: Option<MeshExt>) -> Result<Vec<Job>> {
+fn jobs(
+    files: Vec<(PathBuf, Overrides)>,
+    outdir: &Path,
+    mesh: Option<MeshExt>,
+) -> Result<Vec<Job>> {
     let mut owner: HashMap<PathBuf, PathBuf> = HashMap::new();
     let mut jobs = Vec::with_capacity(files.len());
-    for input in files {
+    for (input, overrides) in files {
         let stem = input
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -182,6 +199,7 @@ fn jobs(files: Vec<PathBuf>, outdir: &Path, mesh: Option<MeshExt>) -> Result<Vec
             report: outdir.join(format!("{stem}.report.json")),
             mesh: ext.flatten().map(|e| outdir.join(format!("{stem}.{e}"))),
             input,
+            overrides,
         };
         for out in [Some(&job.model), Some(&job.report), job.mesh.as_ref()]
             .into_iter()
@@ -220,15 +238,18 @@ fn fill_from_report(row: &mut Row, report: &Value) {
     row.max_mm = number(report, &["distance_mm", "max"]);
     row.coverage = number(report, &["coverage"]);
     row.visible_coverage = number(report, &["visible_coverage"]);
+    if let Some(u) = report.get("units").and_then(Value::as_str) {
+        row.units = u.to_string();
+    }
 }
 
-fn empty_row(job: &Job, units: &'static str, status: &'static str) -> Row {
+fn empty_row(job: &Job, units: &str, status: &'static str) -> Row {
     Row {
         input: job.input.display().to_string(),
         status,
         error: None,
         code: 0,
-        units,
+        units: units.to_string(),
         seconds: None,
         parts: None,
         design_parameters: None,
@@ -270,7 +291,11 @@ fn process(job: &Job, options: &ReconstructOptions, args: &BatchArgs) -> Result<
 
 /// The row of one input, its failure (an error or a panic) included.
 fn run_one(job: &Job, options: &ReconstructOptions, args: &BatchArgs) -> Row {
-    let units = options.units.symbol();
+    let options = &job.overrides.apply(options);
+    let units = match options.infer_units {
+        true => "auto",
+        false => options.units.symbol(),
+    };
     if args.resume && job.done() {
         let mut row = empty_row(job, units, "skipped");
         if let Some(report) = std::fs::read(&job.report)
@@ -375,7 +400,13 @@ pub fn run(args: BatchArgs) -> Result<()> {
         Some(n) => n,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    let files = expand_inputs(&args.inputs, &args.output)?;
+    let files = match &args.manifest {
+        Some(m) => read_manifest(m)?,
+        None => expand_inputs(&args.inputs, &args.output)?
+            .into_iter()
+            .map(|f| (f, Overrides::default()))
+            .collect(),
+    };
     let jobs = jobs(files, &args.output, args.mesh)?;
     std::fs::create_dir_all(&args.output)
         .map_err(|e| bad(format!("{}: {e}", args.output.display())))?;
@@ -488,6 +519,7 @@ mod tests {
             model: PathBuf::from("o/a.json"),
             report: PathBuf::from("o/a.report.json"),
             mesh: None,
+            overrides: Overrides::default(),
         };
         let row = empty_row(&job, "m", "ok");
         let Value::Object(fields) = serde_json::to_value(&row).unwrap() else {
@@ -506,7 +538,10 @@ mod tests {
 
     #[test]
     fn same_stem_twice_is_refused() {
-        let files = vec![PathBuf::from("a/body.obj"), PathBuf::from("b/body.ply")];
+        let files = vec![
+            (PathBuf::from("a/body.obj"), Overrides::default()),
+            (PathBuf::from("b/body.ply"), Overrides::default()),
+        ];
         let e = jobs(files, Path::new("out"), None).unwrap_err();
         assert_eq!(code_of(&e), 2);
         assert!(e.to_string().contains("would both write"), "{e}");

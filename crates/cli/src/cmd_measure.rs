@@ -5,7 +5,7 @@
 //! `--direct` from the fitted sections of a mesh itself.
 
 use crate::body_input::{measurements, Measured};
-use crate::exit::print;
+use crate::exit::{bad, print};
 use anyhow::Result;
 use clap::Args;
 use serde_json::{json, Value};
@@ -34,8 +34,9 @@ pub struct MeasureArgs {
     /// from, when it is a mesh).
     #[arg(long)]
     pub input: Option<PathBuf>,
-    /// The input's length unit, as printed (values are never converted; a
-    /// model file's own unit is used for it).
+    /// The input's length unit (m, cm, mm, or auto to infer it from the
+    /// body's extent), as printed: values are never converted, and a model
+    /// file's own unit is used for it.
     #[arg(long, default_value = "m")]
     pub unit: String,
     /// The file's up axis (x, -x, y, -y, z, -z, or keep); measurements find
@@ -49,14 +50,15 @@ pub fn run(args: MeasureArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let units = crate::body_input::InputUnits {
-        units: Units::from_symbol(&args.unit).unwrap_or(Units::Metres),
-        flag: "--unit",
+    let units = match args.unit.as_str() {
+        "auto" => None,
+        u => Some(
+            Units::from_symbol(u)
+                .ok_or_else(|| bad(format!("--unit {u}: must be m, cm, mm or auto")))?,
+        ),
     };
     let b = measurements(&args.body, &read, args.direct, args.input.as_deref(), units)?;
-    let unit = b
-        .units
-        .map_or(args.unit.clone(), |u| u.symbol().to_string());
+    let unit = b.units.symbol().to_string();
     let m = &b.measurements;
     let input = args.body.display().to_string();
     for w in &m.warnings {

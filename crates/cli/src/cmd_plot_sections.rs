@@ -83,14 +83,11 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let units = crate::body_input::InputUnits {
-        units: trigbody_core::Units::Metres,
-        flag: "`trigbody reconstruct -o MODEL.json --units`",
-    };
+    let units = Some(trigbody_core::Units::Metres);
     let b = measurements(&args.body, &read, args.direct, args.input.as_deref(), units)?;
     let m = &b.measurements;
     // Millimetres per unit: a model file's own unit, else metres.
-    let mm = b.units.map_or(1e3, |u| u.to_mm());
+    let mm = b.units.to_mm();
     let mut panels = Vec::new();
     for name in LEVELS.iter().take(args.levels) {
         let Some((x, g)) = m.get(name).and_then(|x| x.girth.as_ref().map(|g| (x, g))) else {

@@ -24,11 +24,26 @@ use trigbody_io::{read_bytes, write_mesh_as, Format, Geometry, ReadOptions, Writ
 const BUILT_IN_BODY: &[u8] = include_bytes!("../../../data/bodies/mh_male.obj");
 
 /// Units of the input's coordinates.
-#[derive(Debug, Clone, Copy, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum UnitsFlag {
     M,
     Cm,
     Mm,
+    /// The one of m, cm and mm that makes the input a human height
+    /// (0.4-2.6 m); refused, naming the candidates, when none or several do.
+    Auto,
+}
+
+impl UnitsFlag {
+    /// The library's unit, `None` for `auto`.
+    pub fn units(self) -> Option<Units> {
+        match self {
+            UnitsFlag::M => Some(Units::Metres),
+            UnitsFlag::Cm => Some(Units::Centimetres),
+            UnitsFlag::Mm => Some(Units::Millimetres),
+            UnitsFlag::Auto => None,
+        }
+    }
 }
 
 /// Which inputs the parts are fitted to, point by point, after they are
@@ -108,7 +123,8 @@ pub struct BodyFlags {
     /// The direction the body faces (same forms; default: found from the feet).
     #[arg(long, value_parser = parse_direction, allow_hyphen_values = true)]
     pub front: Option<Vec3>,
-    /// The unit of the input's coordinates (distances are reported in mm).
+    /// The unit of the input's coordinates (distances are reported in mm);
+    /// `auto` infers it from the body's extent and the report says which.
     #[arg(long, value_enum, default_value_t = UnitsFlag::M)]
     pub units: UnitsFlag,
     /// Section spacing along each part, as a fraction of the body's height.
@@ -149,11 +165,8 @@ impl BodyFlags {
     /// The reconstruction options these flags describe (the rest default).
     pub fn options(&self) -> ReconstructOptions {
         let mut options = ReconstructOptions {
-            units: match self.units {
-                UnitsFlag::M => Units::Metres,
-                UnitsFlag::Cm => Units::Centimetres,
-                UnitsFlag::Mm => Units::Millimetres,
-            },
+            units: self.units.units().unwrap_or_default(),
+            infer_units: self.units == UnitsFlag::Auto,
             spacing: self.spacing,
             digit_spacing: self.digit_spacing,
             prune_tolerance: self.prune,
@@ -170,7 +183,7 @@ impl BodyFlags {
 }
 
 /// `x`, `-y`, ... or `x,y,z`.
-fn parse_direction(s: &str) -> Result<Vec3, String> {
+pub fn parse_direction(s: &str) -> Result<Vec3, String> {
     let v = match s.trim().to_ascii_lowercase().as_str() {
         "x" | "+x" => Vec3::X,
         "y" | "+y" => Vec3::Y,
@@ -205,6 +218,12 @@ fn table(r: &Report) -> String {
     }
     let found: Vec<&str> = r.parts_found.iter().map(|p| part_file_name(*p)).collect();
     t.push_str(&format!("parts found: {}\n", found.join(", ")));
+    let how = if r.units_inferred {
+        "inferred from the body's extent"
+    } else {
+        "given"
+    };
+    t.push_str(&format!("input units: {} ({how})\n", r.units.symbol()));
     t.push_str(&format!(
         "design parameters {} ({} numbers in a .tbm file) vs 3 x {} input vertices = {} ({:.1} %)\n",
         r.design_parameters,
@@ -320,7 +339,6 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         }
     }
     let options = args.body.options();
-    crate::plausible::check_body_input(&name, &geometry, options.units, "--units")?;
     let body = match &geometry {
         Geometry::Mesh(m) => BodyGeometry::Mesh(m),
         Geometry::Points(c) => BodyGeometry::Cloud(c),

@@ -11,6 +11,7 @@
 //! parse and run the same commands; only the binary takes over the
 //! signals (in Python they stay the interpreter's).
 
+mod batch_manifest;
 mod body_input;
 mod bounds;
 mod cmd_batch;
@@ -30,7 +31,6 @@ mod focus;
 mod input_file;
 mod output;
 mod panels;
-mod plausible;
 mod progress;
 mod signals;
 

@@ -358,26 +358,42 @@ fn a_fifo_as_input_is_refused_without_blocking() {
 fn implausible_units_and_sizes_are_refused_with_the_unit_that_fits() {
     let d = scratch("units");
     let mm = write(&d, "mm.obj", &scaled_body(1000.0, 0.0));
-    case(&d, &["reconstruct", &mm], 2, "which in --units m is 1.6692e3 m: not a human body's height (0.4-2.6 m); with --units mm it is 1.67 m tall");
-    case(&d, &["measure", &mm], 2, "with --unit mm it is 1.67 m tall");
+    let told = "which in m is 1.6692e3 m: not a human body's height (0.4-2.6 m); in mm it is \
+                1.67 m tall: give that unit, or auto to infer it";
+    case(&d, &["reconstruct", &mm], 2, told);
+    case(&d, &["measure", &mm], 2, told);
+    case(&d, &["plot-sections", &mm, "-o", "p.svg"], 2, told);
+    case(&d, &["reconstruct", &mm, "--units", "mm"], 0, "");
     case(
         &d,
-        &["plot-sections", &mm, "-o", "p.svg"],
-        2,
-        "--units` mm it is 1.67 m tall",
+        &["reconstruct", &mm, "--units", "auto", "--report", "r.json"],
+        0,
+        "",
     );
-    case(&d, &["reconstruct", &mm, "--units", "mm"], 0, "");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("r.json")).unwrap()).unwrap();
+    assert_eq!(
+        (report["units"].as_str(), report["units_inferred"].as_bool()),
+        (Some("mm"), Some(true))
+    );
+    case(&d, &["measure", &mm, "--unit", "auto"], 0, "");
+    case(
+        &d,
+        &["measure", &mm, "--unit", "inch"],
+        2,
+        "--unit inch: must be m, cm, mm or auto",
+    );
     case(
         &d,
         &["reconstruct", BODY, "--units", "mm"],
         2,
-        "with --units m it is 1.67 m tall",
+        "in m it is 1.67 m tall",
     );
     case(
         &d,
         &["reconstruct", BODY, "--units", "cm"],
         2,
-        "with --units m it is 1.67 m tall",
+        "in m it is 1.67 m tall",
     );
     let huge = write(&d, "huge.obj", &scaled_body(1e20, 0.0));
     case(

@@ -21,7 +21,10 @@
 //!
 //! 1. **Input** (`geom`): a [`Mesh`] or a [`PointCloud`], seen as a
 //!    [`BodyGeometry`]. `spatial` answers distance, visibility and
-//!    nearest-point queries on it. A mesh or a scan is reconstructed in
+//!    nearest-point queries on it. [`validate_input`] checks it first:
+//!    well formed, one body, a human height in its unit (or the unit
+//!    inferred), so every caller refuses the same inputs alike. A mesh or
+//!    a scan is reconstructed in
 //!    its own frame and point order (a [`Rigid`] motion there and back),
 //!    so the model does not depend on how the file turned, moved or
 //!    numbered it.
@@ -61,9 +64,10 @@ mod surface;
 
 pub use anatomy::{BodyFrame, BodyGeometry, Landmark, LandmarkKind, PartName};
 pub use body::{
-    reconstruct, reconstruct_with_progress, Body, BodyCavity, BodyDigit, BodyPart, BodyTransition,
-    FitMode, GlobalFitOptions, PartFit, Progress, ReconstructError, ReconstructOptions, Report,
-    SectionFit, Units, MAX_PRUNE_TOLERANCE, MAX_SCAN_FRAMES,
+    reconstruct, reconstruct_with_progress, validate_input, Body, BodyCavity, BodyDigit, BodyPart,
+    BodyTransition, FitMode, GlobalFitOptions, InputError, PartFit, Progress, ReconstructError,
+    ReconstructOptions, Report, SectionFit, Units, HUMAN_EXTENT_M, MAX_PRUNE_TOLERANCE,
+    MAX_SCAN_FRAMES,
 };
 pub use curve::ellipse::{fit_ellipse, EllipseFit};
 pub use curve::fit::{

@@ -271,6 +271,8 @@ pub fn report_part_names(report: &Report) -> Vec<String> {
 /// centre's name and position in the input's coordinates) and `warnings`.
 pub fn report_json(report: &Report) -> Value {
     json!({
+        "units": report.units.symbol(),
+        "units_inferred": report.units_inferred,
         "design_parameters": report.design_parameters,
         "compact_numbers": report.compact_numbers,
         "region_parameters": {

@@ -70,7 +70,7 @@ def main() -> int:
     p.add_argument("outdir")
     p.add_argument("--scheduler", help="address of a running scheduler (default: a local cluster)")
     p.add_argument("--workers", type=int, default=2, help="local cluster size (default 2)")
-    p.add_argument("--units", default="m", choices=["m", "cm", "mm"])
+    p.add_argument("--units", default="m", choices=["m", "cm", "mm", "auto"])
     args = p.parse_args()
     if args.scheduler:
         client = Client(args.scheduler)

@@ -143,10 +143,16 @@ fn direction(name: &str, v: Option<[Real; 3]>) -> PyResult<Option<Vec3>> {
 
 impl Options {
     fn reconstruct_options(&self) -> PyResult<ReconstructOptions> {
-        let units = Units::from_symbol(&self.units)
-            .ok_or_else(|| value_error(format!("units '{}' are not m, cm or mm", self.units)))?;
+        let infer_units = self.units == "auto";
+        let units = match infer_units {
+            true => Units::default(),
+            false => Units::from_symbol(&self.units).ok_or_else(|| {
+                value_error(format!("units '{}' are not m, cm, mm or auto", self.units))
+            })?,
+        };
         let mut o = ReconstructOptions {
             units,
+            infer_units,
             ..ReconstructOptions::default()
         };
         o.spacing = self.spacing.unwrap_or(o.spacing);

@@ -97,12 +97,14 @@ pub mod rate;
 mod repeat;
 mod report;
 mod transitions;
+mod validate;
 
 pub use cavity::*;
 pub use digits::*;
 pub use fit::{FitMode, GlobalFitOptions, PartFit};
 use plan::*;
 pub use report::*;
+pub use validate::{validate_input, InputError, HUMAN_EXTENT_M};
 
 /// The unit of the input's coordinates (the report is in millimetres).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -188,6 +190,12 @@ pub struct ReconstructOptions {
     pub part: PartOptions,
     /// The input's unit (the report converts to millimetres). Default metres.
     pub units: Units,
+    /// Infer the unit instead (`units` is then not read): the one of m, cm
+    /// and mm under which the input's extent is a human height
+    /// ([`HUMAN_EXTENT_M`]); an error names the candidates when none or
+    /// several are. Default false: a unit is a fact about the file, and a
+    /// guess, even a checked one, should be asked for.
+    pub infer_units: bool,
     /// Scan loops carry the scanner's noise (about 1 mm, several per cent of
     /// an arm's radius), which no order should reproduce: their tolerances
     /// are `E_a`, `E_M` times this factor, and no lower than the scan's
@@ -256,6 +264,7 @@ impl Default for ReconstructOptions {
             sole_area_fraction: 0.5,
             part: PartOptions::default(),
             units: Units::Metres,
+            infer_units: false,
             scan_tolerance_factor: 2.0,
             max_curve_offset: 0.006,
             refine_rounds: 3,
@@ -284,6 +293,9 @@ pub const MAX_SCAN_FRAMES: usize = 6;
 /// What went wrong in [`reconstruct`].
 #[derive(Debug, Error, PartialEq)]
 pub enum ReconstructError {
+    /// The input is not one human body in its unit, or is malformed.
+    #[error("{0}")]
+    Input(#[from] InputError),
     /// Segmentation failed: the message names what was not found.
     #[error("segmentation: {0}")]
     Segment(#[from] SegmentError),
@@ -584,6 +596,11 @@ pub fn reconstruct_with_progress(
     report_progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<(Body, Report), ReconstructError> {
     check_options(opts)?;
+    // The input is checked first, so that a body in the wrong unit is
+    // told as such, not as a segmentation that found no head.
+    let given = (!opts.infer_units).then_some(opts.units);
+    let units = validate_input(body, given)?;
+    let opts = &ReconstructOptions { units, ..*opts };
     let mut done = 0;
     let mut progress = |stage: &str| {
         report_progress(Progress {

@@ -106,6 +106,11 @@ impl RegionParameters {
 /// How well and how compactly the model fits its input.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Report {
+    /// The input's unit: the one given, or the one inferred from its
+    /// extent ([`ReconstructOptions::infer_units`]).
+    pub units: super::Units,
+    /// Whether [`Report::units`] was inferred rather than given.
+    pub units_inferred: bool,
     /// The model's design parameters (method.md §7).
     pub design_parameters: usize,
     /// The numbers its compact `.tbm` file stores ([`Body::compact_numbers`]).
@@ -445,6 +450,8 @@ pub(super) fn measure_with(
         },
     );
     Ok(Report {
+        units: opts.units,
+        units_inferred: opts.infer_units,
         design_parameters: model.design_parameters(),
         compact_numbers: model.compact_numbers(),
         region_parameters: RegionParameters::of(model, &Regions::new(seg)),

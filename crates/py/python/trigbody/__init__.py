@@ -180,7 +180,9 @@ def reconstruct(
 ) -> Tuple[Model, Report]:
     """Reconstructs a body model from a mesh (``faces`` given) or a scan.
 
-    ``vertices`` (N, 3) in ``units`` ("m", "cm" or "mm"); ``faces`` (M, 3)
+    ``vertices`` (N, 3) in ``units`` ("m", "cm", "mm", or "auto": the one
+    that makes the body a human height, 0.4-2.6 m; the report's ``units``
+    says which, and a body no unit or several fit raises); ``faces`` (M, 3)
     vertex indices, or None for a point cloud; ``normals`` (N, 3) or None;
     ``up`` and ``front`` an axis name ("y", "-z", ...) or three numbers
     (default: found from the data); ``spacing`` (fraction of the height),
@@ -213,9 +215,13 @@ def reconstruct(
 
 def reconstruct_file(path: Union[str, os.PathLike], **options: Any) -> Tuple[Model, Report]:
     """``reconstruct`` on the geometry of a mesh or scan file (what
-    ``trigbody reconstruct FILE`` and ``trigbody batch`` do per file)."""
+    ``trigbody reconstruct FILE`` and ``trigbody batch`` do per file); an
+    error names the file, as theirs do."""
     v, f, n = read_geometry(path)
-    return reconstruct(v, f, normals=n, **options)
+    try:
+        return reconstruct(v, f, normals=n, **options)
+    except ValueError as e:
+        raise ValueError(f"{os.fspath(path)}: {e}") from e
 
 
 def cli(args: Sequence[str]) -> int:

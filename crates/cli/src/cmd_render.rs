@@ -56,13 +56,13 @@ pub struct RenderArgs {
     /// Zoom onto a region of the body: head (above the neck), hands (past
     /// the wrists), feet (below the ankles), or one of left-hand,
     /// right-hand, left-foot, right-foot, found by segmenting the
-    /// drawn mesh (a model file's outer skin); only its triangles there
+    /// drawn mesh (a model file's closed skin); only its triangles there
     /// are drawn.
     #[arg(long, value_enum, conflicts_with = "focus_box")]
     pub focus: Option<crate::focus::FocusFlag>,
     /// Find --focus's regions on this mesh instead of the drawn one (the
-    /// input a model was reconstructed from: a model's own surface is not
-    /// always segmented).
+    /// input a model was reconstructed from, to see the model's regions
+    /// where the input has them).
     #[arg(long, requires = "focus")]
     pub focus_from: Option<PathBuf>,
     /// Zoom onto a box x0,y0,z0,x1,y1,z1 (the file's coordinates after
@@ -100,6 +100,13 @@ pub fn run(args: RenderArgs) -> Result<()> {
                 let body = trigbody_io::read_mesh(path, &read).map_err(bad)?;
                 let from = path.display().to_string();
                 crate::focus::focus_region(&mesh, &body, region, &from)?
+            }
+            // A model's pieces overlap, which the segmentation cannot
+            // follow; its one closed skin is a body like any mesh.
+            None if crate::body_input::is_model_file(&args.input) => {
+                let skin = trigbody_io::model::Skin::Closed;
+                let body = crate::body_input::drawable_surface(&args.input, &read, skin)?;
+                crate::focus::focus_region(&mesh, &body, region, &name)?
             }
             None => crate::focus::focus_region(&mesh, &mesh, region, &name)?,
         },

@@ -218,3 +218,41 @@ fn focus_zooms_onto_a_region_or_a_box() {
         "--focus needs a body",
     );
 }
+
+/// The tool knows its own output: `--focus` on a model file finds the
+/// regions on the model's closed skin (its overlapping pieces alone are
+/// no body to segment), with no `--focus-from`.
+#[test]
+fn focus_works_on_a_model_file() {
+    let dir = scratch("render_focus_model");
+    let model = dir.join("m.json");
+    trigbody()
+        .args(["reconstruct", "-o", model.to_str().unwrap()])
+        .assert()
+        .success();
+    let drawn = |region: &str| -> usize {
+        let out = dir.join(format!("{region}.png"));
+        let stdout = trigbody()
+            .args([
+                "render",
+                model.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(["--size", "64", "--focus", region])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        let stdout = String::from_utf8_lossy(&stdout).to_string();
+        stdout
+            .split(": ")
+            .nth(1)
+            .and_then(|t| t.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{stdout}"))
+    };
+    let (head, feet) = (drawn("head"), drawn("feet"));
+    assert!(head > 500 && feet > 500, "head {head}, feet {feet}");
+}

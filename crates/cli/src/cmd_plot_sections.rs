@@ -62,6 +62,10 @@ pub struct PlotSectionsArgs {
     /// The file's up axis (x, -x, y, -y, z, -z, or keep).
     #[arg(long, default_value = "keep")]
     pub up_axis: UpAxis,
+    /// The unit of a mesh's or scan's coordinates (a model file carries
+    /// its own); `auto` infers it from the body's extent.
+    #[arg(long, value_enum, default_value_t = crate::cmd_reconstruct::UnitsFlag::M)]
+    pub units: crate::cmd_reconstruct::UnitsFlag,
     /// Replace an existing output file (the input is never replaced).
     #[arg(long)]
     pub force: bool,
@@ -83,10 +87,15 @@ pub fn run(args: PlotSectionsArgs) -> Result<()> {
         up_axis: args.up_axis,
         ..ReadOptions::default()
     };
-    let units = Some(trigbody_core::Units::Metres);
-    let b = measurements(&args.body, &read, args.direct, args.input.as_deref(), units)?;
+    let b = measurements(
+        &args.body,
+        &read,
+        args.direct,
+        args.input.as_deref(),
+        args.units.units(),
+    )?;
     let m = &b.measurements;
-    // Millimetres per unit: a model file's own unit, else metres.
+    // Millimetres per unit: a model file's own, else the input's.
     let mm = b.units.to_mm();
     let mut panels = Vec::new();
     for name in LEVELS.iter().take(args.levels) {

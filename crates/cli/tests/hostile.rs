@@ -363,6 +363,12 @@ fn implausible_units_and_sizes_are_refused_with_the_unit_that_fits() {
     case(&d, &["reconstruct", &mm], 2, told);
     case(&d, &["measure", &mm], 2, told);
     case(&d, &["plot-sections", &mm, "-o", "p.svg"], 2, told);
+    case(
+        &d,
+        &["plot-sections", &mm, "-o", "p.svg", "--units", "mm"],
+        0,
+        "",
+    );
     case(&d, &["reconstruct", &mm, "--units", "mm"], 0, "");
     case(
         &d,

@@ -21,7 +21,7 @@ use trigbody_core::internals::measure::model::compare_with_mesh;
 use trigbody_core::reconstruct_with_progress;
 use trigbody_core::{measure_body, ModelMeasureOptions};
 use trigbody_core::{measure_mesh, MeasureOptions, Measurements};
-use trigbody_core::{validate_input, Body, BodyGeometry, Units};
+use trigbody_core::{validate_input, Body, Units};
 use trigbody_core::{Mesh, ReconstructOptions, TessellationOptions};
 use trigbody_io::body_file::body_of_model;
 use trigbody_io::model::{merge_pieces, Model};
@@ -75,10 +75,7 @@ pub fn load_body(path: &Path, read: &ReadOptions, units: InputUnits) -> Result<L
         });
     }
     let geometry = crate::input_file::read_geometry(path, read)?;
-    let g = match &geometry {
-        Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-        Geometry::Points(c) => BodyGeometry::Cloud(c),
-    };
+    let g = geometry.body();
     let mut bar = crate::progress::ProgressBar::new("reconstructing");
     let options = ReconstructOptions {
         units: units.unwrap_or_default(),
@@ -179,11 +176,8 @@ pub fn measurements(
             )));
         }
         let geometry = crate::input_file::read_geometry(path, read)?;
-        let units = match &geometry {
-            Geometry::Mesh(m) => validate_input(BodyGeometry::Mesh(m), units),
-            Geometry::Points(c) => validate_input(BodyGeometry::Cloud(c), units),
-        }
-        .map_err(|e| bad(format!("{file}: {e}")))?;
+        let units =
+            validate_input(geometry.body(), units).map_err(|e| bad(format!("{file}: {e}")))?;
         let mesh = match geometry {
             Geometry::Mesh(mesh) => mesh,
             Geometry::Points(_) => {

@@ -30,9 +30,8 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::Instant;
-use trigbody_core::BodyGeometry;
 use trigbody_core::{reconstruct, Progress, ReconstructOptions};
-use trigbody_io::{read_geometry, Format, Geometry, ReadOptions};
+use trigbody_io::{read_geometry, Format, ReadOptions};
 
 /// The mesh `--mesh` writes beside each model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -270,10 +269,7 @@ fn empty_row(job: &Job, units: &str, status: &'static str) -> Row {
 fn process(job: &Job, options: &ReconstructOptions, args: &BatchArgs) -> Result<Value> {
     let name = job.input.display().to_string();
     let geometry = read_geometry(&job.input, &ReadOptions::default()).map_err(bad)?;
-    let body = match &geometry {
-        Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-        Geometry::Points(c) => BodyGeometry::Cloud(c),
-    };
+    let body = geometry.body();
     let (model, report) = reconstruct(body, options).map_err(|e| bad(format!("{name}: {e}")))?;
     let outputs = Outputs {
         model: Some(&job.model),

@@ -17,8 +17,8 @@ use std::path::{Path, PathBuf};
 use trigbody_core::internals::geom::rng::Rng;
 use trigbody_core::internals::spatial::distance::{DistanceStats, MeshDistance};
 use trigbody_core::{
-    compare_surfaces, compare_surfaces_seen, reconstruct, BodyGeometry, CompareOptions, Mesh,
-    ReconstructOptions, Rigid, SurfaceComparison, Units, Vec3,
+    compare_surfaces, compare_surfaces_seen, reconstruct, CompareOptions, Mesh, ReconstructOptions,
+    Rigid, SurfaceComparison, Units, Vec3,
 };
 use trigbody_io::model::{merge_pieces, Skin};
 use trigbody_io::{read_geometry, Geometry, ReadOptions};
@@ -288,10 +288,7 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), 
         (Geometry::Mesh(m), Some(t)) => Geometry::Mesh(t.mesh(&m)),
         (Geometry::Points(c), Some(t)) => Geometry::Points(t.cloud(&c)),
     };
-    let body = match &geometry {
-        Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-        Geometry::Points(c) => BodyGeometry::Cloud(c),
-    };
+    let body = geometry.body();
     let (mut model, mut report) = reconstruct(body, &options).map_err(|e| e.to_string())?;
     if let Some(t) = shift {
         let back = t.inverse();

@@ -10,14 +10,14 @@ use anyhow::Result;
 use clap::{Args, ValueEnum};
 use std::path::{Path, PathBuf};
 use trigbody_core::internals::body::rate::{reconstruct_for, Goal, RateOptions, RateOutcome};
+use trigbody_core::FitMode;
 use trigbody_core::{reconstruct_with_progress, Body, Progress, ReconstructOptions, Report, Units};
-use trigbody_core::{BodyGeometry, FitMode};
 use trigbody_core::{Real, TessellationOptions, Vec3};
 use trigbody_io::body_file::{model_of_body, part_file_name, report_json, report_part_names};
 use trigbody_io::gltf::{glb_bytes, NamedMesh};
 use trigbody_io::model::{merge_pieces, skin_pieces, write_model};
 use trigbody_io::tbm::{encode_tbm, TbmOptions};
-use trigbody_io::{read_bytes, write_mesh_as, Format, Geometry, ReadOptions, WriteOptions};
+use trigbody_io::{read_bytes, write_mesh_as, Format, ReadOptions, WriteOptions};
 
 /// The built-in body (CC0 MakeHuman average young male, metres; see
 /// `data/bodies/README.md`).
@@ -339,10 +339,7 @@ pub fn run(args: ReconstructArgs) -> Result<()> {
         }
     }
     let options = args.body.options();
-    let body = match &geometry {
-        Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-        Geometry::Points(c) => BodyGeometry::Cloud(c),
-    };
+    let body = geometry.body();
     let goal = match (args.target_rms, args.max_parameters) {
         (Some(t), _) => Some(Goal::TargetRms(t)),
         (None, Some(n)) => Some(Goal::MaxParameters(n)),

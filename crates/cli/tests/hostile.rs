@@ -361,6 +361,9 @@ fn implausible_units_and_sizes_are_refused_with_the_unit_that_fits() {
     let told = "which in m is 1.6692e3 m: not a human body's height (0.4-2.6 m); in mm it is \
                 1.67 m tall: give that unit, or auto to infer it";
     case(&d, &["reconstruct", &mm], 2, told);
+    // The rate search checks its input too (it once reused the
+    // segmentation without it: a 1 669 m body at 1 917 mm RMS, exit 0).
+    case(&d, &["reconstruct", &mm, "--target-rms", "2000"], 2, told);
     case(&d, &["measure", &mm], 2, told);
     case(&d, &["plot-sections", &mm, "-o", "p.svg"], 2, told);
     case(

@@ -25,16 +25,11 @@ use trigbody_core::internals::body::rate::{reconstruct_for, Goal, RateOptions};
 use trigbody_core::{clean_cloud, reconstruct, CleanOptions, ReconstructOptions};
 use trigbody_core::{segment, BodyGeometry, SegmentOptions};
 use trigbody_core::{virtual_scan, ScannerOptions};
-use trigbody_io::{
-    read_geometry, read_mesh, write_point_cloud, Geometry, ReadOptions, WriteOptions,
-};
+use trigbody_io::{read_geometry, read_mesh, write_point_cloud, ReadOptions, WriteOptions};
 
 fn run(path: &PathBuf, opts: &ReconstructOptions) -> usize {
     let geometry = read_geometry(path, &ReadOptions::default()).expect("readable input");
-    let body = match &geometry {
-        Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-        Geometry::Points(c) => BodyGeometry::Cloud(c),
-    };
+    let body = geometry.body();
     let (model, report) = reconstruct(black_box(body), opts).expect("reconstructed");
     model.parts.len() + report.design_parameters
 }

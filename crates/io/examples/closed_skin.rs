@@ -13,10 +13,9 @@
 
 use std::time::Instant;
 use trigbody_core::internals::surface::closed_skin::{check_closed, closed_skin, union_volume};
-use trigbody_core::BodyGeometry;
 use trigbody_core::TessellationOptions;
 use trigbody_core::{reconstruct, ReconstructOptions};
-use trigbody_io::{read_geometry, Geometry, ReadOptions};
+use trigbody_io::{read_geometry, ReadOptions};
 
 fn main() {
     let mut paths: Vec<String> = std::env::args().skip(1).collect();
@@ -25,10 +24,7 @@ fn main() {
     }
     for path in paths {
         let geometry = read_geometry(&path, &ReadOptions::default()).expect("read");
-        let body = match &geometry {
-            Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-            Geometry::Points(c) => BodyGeometry::Cloud(c),
-        };
+        let body = geometry.body();
         let (model, _) = reconstruct(body, &ReconstructOptions::default()).expect("reconstruct");
         let tess = TessellationOptions {
             target_edge: Some(0.004 * model.height),

@@ -2,7 +2,7 @@
 
 use crate::options::ReadOptions;
 use std::collections::HashSet;
-use trigbody_core::{Mesh, PointCloud, Vec3};
+use trigbody_core::{BodyGeometry, Mesh, PointCloud, Vec3};
 
 /// What reading cleaned out of a mesh (see [`Geometry::clean`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -37,6 +37,14 @@ pub enum Geometry {
 }
 
 impl Geometry {
+    /// The geometry as the library's reconstruction and checks take it.
+    pub fn body(&self) -> BodyGeometry<'_> {
+        match self {
+            Geometry::Mesh(m) => BodyGeometry::Mesh(m),
+            Geometry::Points(c) => BodyGeometry::Cloud(c),
+        }
+    }
+
     /// The positions, whatever the kind.
     pub fn positions(&self) -> &[Vec3] {
         match self {

@@ -19,7 +19,7 @@ use numpy::PyReadonlyArray2;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use trigbody_core::{
-    fit_loop, fit_loop_2d, reconstruct as reconstruct_body, BodyGeometry, ReconstructOptions, Units,
+    fit_loop, fit_loop_2d, reconstruct as reconstruct_body, ReconstructOptions, Units,
 };
 use trigbody_core::{FitMode, FitOptions, Mesh, OrderChoice, PointCloud, Real, Vec2, Vec3};
 use trigbody_io::body_file::report_json;
@@ -209,10 +209,7 @@ fn reconstruct(
         }
     };
     let (result, seconds) = py.detach(|| {
-        let g = match &geometry {
-            Geometry::Mesh(m) => BodyGeometry::Mesh(m),
-            Geometry::Points(c) => BodyGeometry::Cloud(c),
-        };
+        let g = geometry.body();
         let started = std::time::Instant::now();
         let result = reconstruct_body(g, &opts);
         (result, started.elapsed().as_secs_f64())

@@ -596,11 +596,29 @@ pub fn reconstruct_with_progress(
     report_progress: &mut dyn FnMut(Progress<'_>),
 ) -> Result<(Body, Report), ReconstructError> {
     check_options(opts)?;
-    // The input is checked first, so that a body in the wrong unit is
-    // told as such, not as a segmentation that found no head.
+    let opts = &checked_input(body, opts)?;
+    reconstruct_checked(body, opts, report_progress)
+}
+
+/// `opts` with the unit of `body` as [`validate_input`] finds it (given,
+/// or inferred), once `body` is checked: first, so that a body in the
+/// wrong unit is told as such, not as a segmentation that found no head.
+fn checked_input(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+) -> Result<ReconstructOptions, ReconstructError> {
     let given = (!opts.infer_units).then_some(opts.units);
     let units = validate_input(body, given)?;
-    let opts = &ReconstructOptions { units, ..*opts };
+    Ok(ReconstructOptions { units, ..*opts })
+}
+
+/// [`reconstruct_with_progress`] of an input [`checked_input`] passed,
+/// at options [`check_options`] passed.
+fn reconstruct_checked(
+    body: BodyGeometry<'_>,
+    opts: &ReconstructOptions,
+    report_progress: &mut dyn FnMut(Progress<'_>),
+) -> Result<(Body, Report), ReconstructError> {
     let mut done = 0;
     let mut progress = |stage: &str| {
         report_progress(Progress {

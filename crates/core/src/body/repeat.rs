@@ -43,12 +43,22 @@ pub(crate) fn reconstruct_each<R>(
     if check_options(base).is_err() {
         return search(&mut fresh);
     }
-    let own = match own_frame(body, base) {
+    // The input is checked once, here, not at every trial; the unit found
+    // (given or inferred) holds for all of them.
+    let Ok(checked) = checked_input(body, base) else {
+        return search(&mut fresh);
+    };
+    let with_unit = |o: &ReconstructOptions| ReconstructOptions {
+        units: checked.units,
+        ..*o
+    };
+    let base_in_unit = &checked;
+    let own = match own_frame(body, base_in_unit) {
         Ok(own) => Some(own),
         Err(_) => return search(&mut fresh),
     };
     let into = own.as_ref().map(|o| &o.1);
-    let (prepared, own_base) = Prepared::in_own_frame(body, own.as_ref(), base);
+    let (prepared, own_base) = Prepared::in_own_frame(body, own.as_ref(), base_in_unit);
     // A scan's frame, chosen at the base options.
     let mut first = None;
     let mut frame = (0.0, None);
@@ -81,11 +91,12 @@ pub(crate) fn reconstruct_each<R>(
     };
     let groundwork = Groundwork::new(&segmented);
     let mut run = |o: &ReconstructOptions| {
-        if !tolerances_only(o, base) {
-            return reconstruct(body, o);
-        }
         check_options(o)?;
-        if o == base {
+        let o = &with_unit(o);
+        if !tolerances_only(o, base_in_unit) {
+            return reconstruct_checked(body, o, &mut |_| {});
+        }
+        if o == base_in_unit {
             if let Some(result) = first.take() {
                 return finished(result, &prepared, into, o);
             }

@@ -1,5 +1,5 @@
 //! `trigbody corpus`: reconstructs every body of a folder described by a
-//! `manifest.json`, and judges each model's written outer skin against the
+//! `manifest.json`, and judges each model's written closed skin (the default mesh) against the
 //! ground truth (the body's mesh; for a scan, the mesh it was made from)
 //! both ways, and its joint centres against the manifest's.
 //!
@@ -61,6 +61,11 @@ pub struct CorpusArgs {
     /// Pictures of this many worst inputs (by symmetric RMS).
     #[arg(long, default_value_t = 5)]
     pub pictures: usize,
+    /// The skin judged: the closed skin `reconstruct --mesh` writes by
+    /// default, or the outer skin (each piece's triangles inside another
+    /// left out; `whole` is every piece as tessellated).
+    #[arg(long, value_enum, default_value_t = crate::cmd_mesh::SkinFlag::Closed)]
+    pub skin: crate::cmd_mesh::SkinFlag,
     /// Move every input by this many millimetres (in a direction drawn
     /// from `--seed` and the input's name) and its model back before
     /// judging: a probe of how stable a reconstruction is under a change
@@ -258,8 +263,8 @@ fn vec3(v: &Value) -> Option<Vec3> {
     (x.len() == 3).then(|| Vec3::new(x[0], x[1], x[2]))
 }
 
-/// Reconstructs one input and judges its written outer skin.
-/// The judgement and the outer skin it judged.
+/// Reconstructs one input and judges the mesh a user gets (its closed skin).
+/// The judgement and the skin it judged.
 fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), String> {
     let read = |p: &Path| read_geometry(p, &ReadOptions::default()).map_err(|e| format!("{e:#}"));
     let geometry = read(&case.input)?;
@@ -297,7 +302,7 @@ fn judge(case: &Case, args: &CorpusArgs) -> std::result::Result<(Judged, Mesh), 
             *p = back.point(*p);
         }
     }
-    let skin = outer_skin(&model)?;
+    let skin = user_mesh(&model, args.skin)?;
     let mm = case.units.to_mm();
     let compare = CompareOptions {
         samples: args.samples,
@@ -383,11 +388,15 @@ fn probe_motion(name: &str, args: &CorpusArgs, units: Units) -> Option<Rigid> {
     Rigid::into_axes(-inverse(to), inverse(Vec3::X), inverse(Vec3::Y))
 }
 
-/// The model's outer skin as `reconstruct --mesh M --skin outer` writes it.
-fn outer_skin(model: &trigbody_core::Body) -> std::result::Result<Mesh, String> {
+/// The skin `reconstruct --mesh M --skin S` writes (by default the one
+/// closed skin, the mesh a user gets).
+fn user_mesh(
+    model: &trigbody_core::Body,
+    skin: crate::cmd_mesh::SkinFlag,
+) -> std::result::Result<Mesh, String> {
     Ok(merge_pieces(&crate::cmd_reconstruct::mesh_pieces(
         model,
-        Skin::Outer,
+        Skin::from(skin),
     )?))
 }
 
@@ -625,7 +634,7 @@ fn summary(outcomes: &[Outcome]) -> String {
     s
 }
 
-/// The worst inputs' outer skins (`worst`, worst first) coloured by their
+/// The worst inputs' closed skins (`worst`, worst first) coloured by their
 /// distance to the truth, front, side and back, one picture each.
 fn pictures(outcomes: &[Outcome], worst: &[(f64, usize, Mesh)], args: &CorpusArgs) -> Result<()> {
     for (k, (_, index, skin)) in worst.iter().enumerate() {

@@ -65,23 +65,23 @@ pub fn closed_skin(solids: &[Mesh], cavities: &[Mesh]) -> Result<Mesh, ClosedSki
     }
 }
 
-/// The closed pieces (solids closed with [`BULGE`], cavities flat) as one
-/// soup, and each triangle's piece.
+/// The closed pieces (solids closed with [`BULGE`] or as far as the open
+/// ends meeting theirs, [`crate::surface::skin::closed_pieces`]; cavities
+/// flat) as one soup, and each triangle's piece.
 pub fn closed_soup(
     solids: &[Mesh],
     cavities: &[Mesh],
 ) -> Result<(Mesh, Vec<u32>), ClosedSkinError> {
-    let closed: Vec<Result<Mesh, ClosedSkinError>> = crate::geom::parallel::each_on_cores(
-        &solids
-            .iter()
-            .chain(cavities)
-            .enumerate()
-            .collect::<Vec<_>>(),
-        |&(k, m)| {
-            crate::surface::skin::closed_piece(m, if k < solids.len() { BULGE } else { 0.0 })
-                .ok_or(ClosedSkinError::Unclosable { piece: k })
-        },
-    );
+    let closed: Vec<Result<Mesh, ClosedSkinError>> = closed_solids(solids)
+        .into_iter()
+        .chain(
+            cavities
+                .iter()
+                .map(|m| crate::surface::skin::closed_piece(m, 0.0)),
+        )
+        .enumerate()
+        .map(|(k, m)| m.ok_or(ClosedSkinError::Unclosable { piece: k }))
+        .collect();
     let closed = closed.into_iter().collect::<Result<Vec<Mesh>, _>>()?;
     let (soup, ranges) = crate::geom::mesh::concatenate(&closed);
     if soup.triangles.is_empty() {
@@ -359,8 +359,15 @@ pub const SLIVER: Real = 5e-7;
 /// shallow cone, so that pieces ending on one plane (head and torso at the
 /// neck) overlap; without it, at `trigbody mesh`'s default tessellation the
 /// head came out as a shell of its own, touching the torso. Every open end
-/// of a model lies inside another piece, where the cone adds nothing.
+/// of a model lies inside another piece, where the cone adds nothing; one
+/// that other open ends meet reaches as far as they do
+/// ([`crate::surface::skin::closed_pieces`]).
 pub const BULGE: Real = 0.05;
+
+/// The solid pieces closed together ([`crate::surface::skin::closed_pieces`]).
+fn closed_solids(solids: &[Mesh]) -> Vec<Option<Mesh>> {
+    crate::surface::skin::closed_pieces(solids, BULGE)
+}
 
 /// The smallest shell kept, as a fraction of the largest one's volume.
 pub const SPECK: Real = 1e-6;
@@ -387,14 +394,13 @@ pub fn union_volume(solids: &[Mesh], cavities: &[Mesh], up: Vec3, spacing: Real)
     // Every closed piece's triangles in (e1, e2, up) coordinates, with the
     // piece's index and whether it is a cavity.
     let mut tris: Vec<([Vec3; 3], u32, bool)> = Vec::new();
-    for (k, (m, cavity)) in solids
-        .iter()
-        .map(|m| (m, false))
-        .chain(cavities.iter().map(|m| (m, true)))
-        .enumerate()
-    {
-        let bulge = if cavity { 0.0 } else { BULGE };
-        let Some(mut closed) = crate::surface::skin::closed_piece(m, bulge) else {
+    let closed = closed_solids(solids).into_iter().map(|m| (m, false)).chain(
+        cavities
+            .iter()
+            .map(|m| (crate::surface::skin::closed_piece(m, 0.0), true)),
+    );
+    for (k, (closed, cavity)) in closed.enumerate() {
+        let Some(mut closed) = closed else {
             continue;
         };
         if cavity {

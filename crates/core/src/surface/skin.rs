@@ -627,28 +627,129 @@ fn boundary_loops(tris: &[[u32; 3]], vertices: Range<usize>) -> Option<Vec<Vec<u
 /// sitting on the torso's neck section) overlap instead of touching.
 pub fn closed_piece(m: &Mesh, bulge: Real) -> Option<Mesh> {
     let loops = boundary_loops(&m.triangles, 0..m.positions.len())?;
-    let mut out = Mesh {
+    let caps: Vec<OpenEnd> = loops.into_iter().map(|l| OpenEnd::new(m, l)).collect();
+    Some(fanned(m, &caps, |c| bulge * c.radius))
+}
+
+/// Every piece of `pieces` closed as by [`closed_piece`], except that a
+/// loop's fan reaches at least as far out as the open ends that meet it
+/// (another piece's loop with at least [`MEETING_SHARE`] of its vertices
+/// within [`MEETING_DISTANCE`] × the loop's radius of it): two legs'
+/// transitions end on halves of the torso's bottom closed by a seam that
+/// dips below it, and a flat fan across the torso's bottom would leave
+/// the wedge above the seam in no piece, a pocket inside the body.
+/// `None` for a piece whose boundary edges do not form loops.
+pub fn closed_pieces(pieces: &[Mesh], bulge: Real) -> Vec<Option<Mesh>> {
+    let ends: Vec<Option<Vec<OpenEnd>>> = each_on_cores(pieces, |m| {
+        boundary_loops(&m.triangles, 0..m.positions.len())
+            .map(|loops| loops.into_iter().map(|l| OpenEnd::new(m, l)).collect())
+    });
+    let all: Vec<(usize, &OpenEnd)> = ends
+        .iter()
+        .enumerate()
+        .flat_map(|(k, e)| e.iter().flatten().map(move |c| (k, c)))
+        .collect();
+    let items: Vec<(&Mesh, usize)> = pieces.iter().zip(0..).collect();
+    each_on_cores(&items, |&(m, k)| {
+        let caps = ends[k].as_ref()?;
+        Some(fanned(m, caps, |c| {
+            let reach = all
+                .iter()
+                .filter(|(j, o)| *j != k && o.meets(c))
+                .flat_map(|(_, o)| &o.points)
+                .map(|p| (*p - c.mean).dot(c.normal))
+                .fold(0.0, Real::max);
+            (bulge * c.radius).max(reach.min(MAX_REACH * c.radius))
+        }))
+    })
+}
+
+/// Share of another loop's vertices that must lie near a loop for the two
+/// open ends to meet ([`closed_pieces`]): a leg transition's end is its
+/// half of the torso's bottom (over half its vertices) and the seam.
+const MEETING_SHARE: Real = 0.25;
+/// How near, as a fraction of the loop's mean radius.
+const MEETING_DISTANCE: Real = 0.03;
+/// The farthest a fan reaches out of its loop, as a fraction of its mean
+/// radius.
+const MAX_REACH: Real = 0.5;
+
+/// An open end of a piece: its loop, the loop's mean, the fan's outward
+/// normal and the loop's mean radius.
+struct OpenEnd {
+    cycle: Vec<u32>,
+    points: Vec<Point3>,
+    mean: Point3,
+    normal: Vec3,
+    radius: Real,
+}
+
+impl OpenEnd {
+    fn new(m: &Mesh, cycle: Vec<u32>) -> OpenEnd {
+        let points: Vec<Point3> = cycle.iter().map(|&v| m.positions[v as usize]).collect();
+        let n = points.len().max(1);
+        let mean = points.iter().fold(Vec3::ZERO, |s, p| s + *p) / n as Real;
+        // The fan's area vector: its triangles run each edge backwards.
+        let area = (0..points.len()).fold(Vec3::ZERO, |s, k| {
+            s + (points[(k + 1) % n] - mean).cross(points[k] - mean) * 0.5
+        });
+        OpenEnd {
+            cycle,
+            points,
+            mean,
+            normal: area.normalized().unwrap_or(Vec3::ZERO),
+            radius: mean_radius(area.norm()),
+        }
+    }
+
+    /// Whether `other`'s loop meets this one ([`MEETING_SHARE`]).
+    fn meets(&self, other: &OpenEnd) -> bool {
+        let tol = MEETING_DISTANCE * other.radius;
+        if self.points.is_empty()
+            || self.mean.distance(other.mean) > self.radius + other.radius + tol
+        {
+            return false;
+        }
+        let near = self
+            .points
+            .iter()
+            .filter(|p| polyline_distance(&other.points, **p) <= tol)
+            .count();
+        near as Real >= MEETING_SHARE * self.points.len() as Real
+    }
+}
+
+/// Distance from `p` to the closed polyline `points`.
+fn polyline_distance(points: &[Point3], p: Point3) -> Real {
+    let n = points.len();
+    (0..n)
+        .map(|k| {
+            let (a, b) = (points[k], points[(k + 1) % n]);
+            let ab = b - a;
+            let t = ((p - a).dot(ab) / ab.dot(ab).max(Real::MIN_POSITIVE)).clamp(0.0, 1.0);
+            p.distance(a + ab * t)
+        })
+        .fold(Real::INFINITY, Real::min)
+}
+
+/// `m` with each open end of `caps` closed by a fan from a point `out(end)`
+/// out of its mean along its normal.
+fn fanned(m: &Mesh, caps: &[OpenEnd], out: impl Fn(&OpenEnd) -> Real) -> Mesh {
+    let mut mesh = Mesh {
         positions: m.positions.clone(),
         normals: None,
         triangles: m.triangles.clone(),
     };
-    for cycle in loops.iter().filter(|l| !l.is_empty()) {
-        let at = |k: usize| m.positions[cycle[k % cycle.len()] as usize];
-        let mean = (0..cycle.len()).fold(Vec3::ZERO, |s, k| s + at(k)) / cycle.len() as Real;
-        // The fan's area vector: its triangles run each edge backwards.
-        let area = (0..cycle.len()).fold(Vec3::ZERO, |s, k| {
-            s + (at(k + 1) - mean).cross(at(k) - mean) * 0.5
-        });
-        let radius = mean_radius(area.norm());
-        let c = out.positions.len() as u32;
-        out.positions
-            .push(mean + area.normalized().unwrap_or(Vec3::ZERO) * (bulge * radius));
-        for k in 0..cycle.len() {
-            out.triangles
-                .push([cycle[(k + 1) % cycle.len()], cycle[k], c]);
+    for c in caps.iter().filter(|c| !c.cycle.is_empty()) {
+        let apex = mesh.positions.len() as u32;
+        mesh.positions.push(c.mean + c.normal * out(c));
+        let n = c.cycle.len();
+        for k in 0..n {
+            mesh.triangles
+                .push([c.cycle[(k + 1) % n], c.cycle[k], apex]);
         }
     }
-    Some(out)
+    mesh
 }
 
 fn add_cap(caps: &mut Mesh, surface: &Mesh, cycle: &[u32]) {
@@ -736,6 +837,102 @@ fn regions(
 mod tests {
     use super::*;
     use crate::geom::shapes::cylinder;
+
+    /// The band between two loops of as many points, both counter-clockwise
+    /// seen from +z, `top` above: faces outward.
+    fn band(top: &[Point3], bottom: &[Point3]) -> Mesh {
+        let n = top.len();
+        let positions: Vec<Point3> = bottom.iter().chain(top).copied().collect();
+        let (b, t) = (|i: usize| (i % n) as u32, |i: usize| (n + i % n) as u32);
+        let triangles = (0..n)
+            .flat_map(|i| [[b(i), b(i + 1), t(i + 1)], [b(i), t(i + 1), t(i)]])
+            .collect();
+        Mesh {
+            positions,
+            normals: None,
+            triangles,
+        }
+    }
+
+    fn circle(centre: Point3, r: Real, n: usize, from: Real) -> Vec<Point3> {
+        (0..n)
+            .map(|i| {
+                let a = from + std::f64::consts::TAU * i as Real / n as Real;
+                centre + Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+            })
+            .collect()
+    }
+
+    /// A leg's top: the half of the unit circle on `side` (±1 in x) and a
+    /// seam across x = 0 dipping to z = -`dip`, counter-clockwise from +z.
+    fn half_and_seam(side: Real, dip: Real) -> Vec<Point3> {
+        let pi = std::f64::consts::PI;
+        let start = if side > 0.0 { 1.5 * pi } else { 0.5 * pi };
+        let half = (0..24).map(move |i| {
+            let a = start + pi * i as Real / 24.0;
+            Vec3::new(a.cos(), a.sin(), 0.0)
+        });
+        let seam = (0..24).map(move |i| {
+            let s = i as Real / 24.0;
+            Vec3::new(0.0, side * (1.0 - 2.0 * s), -dip * 4.0 * s * (1.0 - s))
+        });
+        half.chain(seam).collect()
+    }
+
+    #[test]
+    fn a_fan_reaches_the_seam_of_the_ends_that_meet_it() {
+        // A torso's bottom at z = 0, two legs' transitions ending on its
+        // halves closed by a seam 0.3 deep: the torso's fan reaches the
+        // seam, so no pocket is left between the three fans.
+        let torso = band(
+            &circle(Vec3::new(0.0, 0.0, 1.0), 1.0, 48, 0.0),
+            &circle(Vec3::ZERO, 1.0, 48, 0.0),
+        );
+        let legs: Vec<Mesh> = [-1.0, 1.0]
+            .iter()
+            .map(|&side| {
+                let top = half_and_seam(side, 0.3);
+                let foot = circle(
+                    Vec3::new(0.5 * side, 0.0, -1.0),
+                    0.4,
+                    48,
+                    -std::f64::consts::FRAC_PI_2 * side,
+                );
+                band(&top, &foot)
+            })
+            .collect();
+        for leg in &legs {
+            assert!(boundary_loops(&leg.triangles, 0..leg.positions.len()).is_some());
+        }
+        let pieces = vec![torso.clone(), legs[0].clone(), legs[1].clone()];
+        let closed = closed_pieces(&pieces, 0.05);
+        let apexes =
+            |m: &Mesh, n: usize| m.positions[n..].iter().map(|p| p.z).collect::<Vec<Real>>();
+        let torso_closed = closed[0].as_ref().expect("torso closed");
+        let mut z = apexes(torso_closed, torso.positions.len());
+        z.sort_by(Real::total_cmp);
+        assert_eq!(z.len(), 2);
+        assert!((z[0] + 0.3).abs() < 0.01, "bottom apex at {}", z[0]);
+        assert!(
+            (z[1] - 1.05).abs() < 1e-3,
+            "top apex at {} (nothing meets it)",
+            z[1]
+        );
+        // Alone, the torso is closed flat but for the bulge.
+        let alone = closed_piece(&torso, 0.05).unwrap();
+        let mut z = apexes(&alone, torso.positions.len());
+        z.sort_by(Real::total_cmp);
+        assert!((z[0] + 0.05).abs() < 1e-3);
+        // A leg's foot meets nothing: its fan is the bulge's.
+        let leg = closed[1].as_ref().expect("leg closed");
+        let low = apexes(leg, legs[0].positions.len())
+            .into_iter()
+            .fold(Real::INFINITY, Real::min);
+        assert!(
+            (low - (-1.0 - 0.05 * 0.4)).abs() < 1e-3,
+            "foot apex at {low}"
+        );
+    }
 
     /// A closed box `lo..hi` whose faces are `n × n` grids of squares, two
     /// triangles each, oriented outward, the faces sharing their edges'

@@ -94,21 +94,23 @@ pub fn run(args: RenderArgs) -> Result<()> {
         load_mesh(&args.input, &read)?
     };
     let name = args.input.display().to_string();
+    // An up axis the user gave is +y once read: the regions are found with it.
+    let up = (args.up_axis != UpAxis::Keep).then_some(trigbody_core::Vec3::Y);
     let mesh = match (args.focus, &args.focus_box) {
         (Some(region), _) => match &args.focus_from {
             Some(path) => {
                 let body = trigbody_io::read_mesh(path, &read).map_err(bad)?;
                 let from = path.display().to_string();
-                crate::focus::focus_region(&mesh, &body, region, &from)?
+                crate::focus::focus_region(&mesh, &body, region, &from, up)?
             }
             // A model's pieces overlap, which the segmentation cannot
             // follow; its one closed skin is a body like any mesh.
             None if crate::body_input::is_model_file(&args.input) => {
                 let skin = trigbody_io::model::Skin::Closed;
                 let body = crate::body_input::drawable_surface(&args.input, &read, skin)?;
-                crate::focus::focus_region(&mesh, &body, region, &name)?
+                crate::focus::focus_region(&mesh, &body, region, &name, up)?
             }
-            None => crate::focus::focus_region(&mesh, &mesh, region, &name)?,
+            None => crate::focus::focus_region(&mesh, &mesh, region, &name, up)?,
         },
         (None, Some(corners)) => crate::focus::focus_box(&mesh, corners, &name)?,
         (None, None) => mesh,

@@ -30,12 +30,24 @@ pub enum FocusFlag {
 /// `mesh`'s triangles whose centroid lies in `region` (the regions of
 /// [`trigbody_core::regions`], from segmenting `body`: the drawn mesh
 /// itself, or the input a model was made from); `name` names `body`'s
-/// file in errors.
-pub fn focus_region(mesh: &Mesh, body: &Mesh, region: FocusFlag, name: &str) -> Result<Mesh> {
-    let seg = segment(BodyGeometry::Mesh(body), &SegmentOptions::default()).map_err(|e| {
+/// file in errors. `up`: the body's up axis when the user gave it (else
+/// found from the data).
+pub fn focus_region(
+    mesh: &Mesh,
+    body: &Mesh,
+    region: FocusFlag,
+    name: &str,
+    up: Option<trigbody_core::Vec3>,
+) -> Result<Mesh> {
+    let options = SegmentOptions {
+        up,
+        ..SegmentOptions::default()
+    };
+    let seg = segment(BodyGeometry::Mesh(body), &options).map_err(|e| {
+        let hint = if up.is_some() { "" } else { " (or --up-axis)" };
         bad(format!(
             "{name}: --focus needs a body to find its regions ({e}); for a model, \
-             --focus-from its input mesh"
+             --focus-from its input mesh{hint}"
         ))
     })?;
     let regions = Regions::new(&seg);

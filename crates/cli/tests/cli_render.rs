@@ -219,6 +219,51 @@ fn focus_zooms_onto_a_region_or_a_box() {
     );
 }
 
+/// `--focus` finds its regions with the up axis the user gave: a z-up copy
+/// of the built-in body with `--up-axis z` draws its head; the y-up body
+/// said to be x-up is no standing body, and is refused (exit 2) rather
+/// than segmented along an axis the user did not give.
+#[test]
+fn focus_uses_the_up_axis_given() {
+    let dir = scratch("render_focus_up");
+    let body = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/bodies/mh_male.obj");
+    let mesh = trigbody_io::read_mesh(body, &Default::default()).unwrap();
+    let mut obj = String::new();
+    for p in &mesh.positions {
+        // (x, y, z) as a z-up file stores it: (x, -z, y).
+        obj.push_str(&format!("v {} {} {}\n", p.x, -p.z, p.y));
+    }
+    for t in &mesh.triangles {
+        obj.push_str(&format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    }
+    let z_up = write(&dir, "z_up.obj", &obj);
+    let out = dir.join("head.png");
+    trigbody()
+        .args([
+            "render",
+            z_up.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--size", "64", "--focus", "head", "--up-axis", "z"])
+        .assert()
+        .success();
+    let out = dir.join("bad.png");
+    fails_with_bad_input(
+        &[
+            "render",
+            body,
+            "-o",
+            out.to_str().unwrap(),
+            "--focus",
+            "head",
+            "--up-axis",
+            "x",
+        ],
+        "--focus needs a body",
+    );
+}
+
 /// The tool knows its own output: `--focus` on a model file finds the
 /// regions on the model's closed skin (its overlapping pieces alone are
 /// no body to segment), with no `--focus-from`.

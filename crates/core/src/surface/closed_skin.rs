@@ -32,6 +32,7 @@
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::Mesh;
 use crate::geom::union_find::root;
+use crate::spatial::distance::MeshDistance;
 use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{Error as ManifoldError, MeshGL64, WindingRule};
 use thiserror::Error;
@@ -55,15 +56,61 @@ pub enum ClosedSkinError {
 /// doc): `solids` are the pieces facing outwards, `cavities` the pockets
 /// facing into themselves (as a body's `tessellate_pieces`
 /// gives them). Shells enclosing less than [`SPECK`] of the largest one's
-/// volume are left out. Rebuilt locally where that passes its own check,
-/// else from the whole soup (module doc).
+/// volume are left out, and so are voids no cavity lines (gaps between
+/// the pieces, filled: [`without_gaps`]). Rebuilt locally where that
+/// passes its own check, else from the whole soup (module doc).
 pub fn closed_skin(solids: &[Mesh], cavities: &[Mesh]) -> Result<Mesh, ClosedSkinError> {
     let (soup, piece) = closed_soup(solids, cavities)?;
-    match crate::surface::local_skin::local_closed_skin(&soup, &piece) {
-        Some(skin) => Ok(tidied(skin)),
-        None => whole_soup_skin(&soup),
-    }
+    let skin = match crate::surface::local_skin::local_closed_skin(&soup, &piece) {
+        Some(skin) => tidied(skin),
+        None => whole_soup_skin(&soup)?,
+    };
+    Ok(without_gaps(skin, cavities))
 }
+
+/// `skin` without the voids no cavity lines: a shell facing inwards (negative
+/// volume) bounds empty space enclosed by the solid, which between pieces
+/// is a gap their closing fans leave (on a corpus body, 306 cm³ inside a
+/// shoulder), not skin; only a cavity's pocket is. A void is kept when at
+/// least half its triangles lie on a cavity (their centroids within
+/// [`ON_CAVITY`] × the skin's size of one).
+fn without_gaps(skin: Mesh, cavities: &[Mesh]) -> Mesh {
+    let (labels, shells) = shell_labels(&skin);
+    if shells.iter().all(|s| s.1 >= 0.0) {
+        return skin;
+    }
+    let size = skin.bounds().map_or(0.0, |b| (b.max - b.min).norm());
+    let lining = crate::geom::mesh::concatenate(cavities).0;
+    let near = (!lining.triangles.is_empty()).then(|| MeshDistance::new(&lining));
+    let lined: Vec<bool> = (0..shells.len())
+        .map(|k| {
+            if shells[k].1 >= 0.0 {
+                return true;
+            }
+            let Some(near) = &near else {
+                return false;
+            };
+            let centroids: Vec<Point3> = (0..skin.triangles.len())
+                .filter(|&t| labels[t] as usize == k)
+                .map(|t| {
+                    let [a, b, c] = skin.triangle(t);
+                    (a + b + c) / 3.0
+                })
+                .collect();
+            let on = near
+                .distances(&centroids)
+                .iter()
+                .filter(|&&d| d <= ON_CAVITY * size)
+                .count();
+            2 * on >= centroids.len()
+        })
+        .collect();
+    crate::surface::skin::kept(&skin, |t| lined[labels[t] as usize])
+}
+
+/// How near a void's triangle lies to a cavity to be its lining, as a
+/// fraction of the skin's size (the boolean's rounding is far under it).
+const ON_CAVITY: Real = 1e-6;
 
 /// The closed pieces (solids closed with [`BULGE`] or as far as the open
 /// ends meeting theirs, [`crate::surface::skin::closed_pieces`]; cavities
@@ -519,6 +566,70 @@ pub fn union_volume(solids: &[Mesh], cavities: &[Mesh], up: Vec3, spacing: Real)
 mod tests {
     use super::*;
     use crate::geom::shapes::cylinder;
+
+    /// A box `lo..hi`, twelve triangles facing out.
+    fn cuboid(lo: Vec3, hi: Vec3) -> Mesh {
+        let p = |i: usize| {
+            Vec3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            )
+        };
+        let triangles = vec![
+            [0, 2, 1],
+            [1, 2, 3],
+            [4, 5, 6],
+            [5, 7, 6], // z faces
+            [0, 1, 4],
+            [1, 5, 4],
+            [2, 6, 3],
+            [3, 6, 7], // y faces
+            [0, 4, 2],
+            [2, 4, 6],
+            [1, 3, 5],
+            [3, 7, 5], // x faces
+        ];
+        Mesh {
+            positions: (0..8).map(p).collect(),
+            normals: None,
+            triangles,
+        }
+    }
+
+    /// Six walls overlapping at their edges enclose a gap: the closed skin
+    /// is the outside alone, one shell; a pocket lined by a cavity stays.
+    #[test]
+    fn a_gap_between_pieces_is_filled_and_a_cavity_kept() {
+        let v = Vec3::new;
+        let walls = vec![
+            cuboid(v(-1.0, -1.0, -1.0), v(-0.8, 1.0, 1.0)),
+            cuboid(v(0.8, -1.0, -1.0), v(1.0, 1.0, 1.0)),
+            cuboid(v(-0.9, -1.01, -0.99), v(0.9, -0.79, 0.99)),
+            cuboid(v(-0.9, 0.79, -0.99), v(0.9, 1.01, 0.99)),
+            cuboid(v(-0.91, -0.92, -1.02), v(0.91, 0.92, -0.78)),
+            cuboid(v(-0.91, -0.92, 0.78), v(0.91, 0.92, 1.02)),
+        ];
+        for w in &walls {
+            assert!(w.signed_volume() > 0.0);
+        }
+        let skin = closed_skin(&walls, &[]).expect("closed skin");
+        let shells = shells(&skin);
+        assert_eq!(shells.len(), 1, "{shells:?}");
+        assert!(check_closed(&skin).is_closed_manifold());
+        // Without the filling the soup's boolean keeps the gap's walls.
+        let (soup, _) = closed_soup(&walls, &[]).unwrap();
+        let whole = whole_soup_skin(&soup).unwrap();
+        assert!(super::shells(&whole).iter().any(|s| s.1 < 0.0));
+        // A box with a cavity inside it: the pocket is the cavity's lining.
+        let mut pocket = cuboid(v(-0.3, -0.3, -0.3), v(0.3, 0.3, 0.3));
+        pocket.flip_orientation();
+        let solid = cuboid(v(-1.0, -1.0, -1.0), v(1.0, 1.0, 1.0));
+        let skin = closed_skin(&[solid], &[pocket]).expect("closed skin");
+        let shells = super::shells(&skin);
+        assert_eq!(shells.len(), 2, "{shells:?}");
+        assert!((skin.signed_volume() - (8.0 - 0.216)).abs() < 1e-9);
+    }
 
     /// A tetrahedron whose edge 0-1 carries a vertex a nanometre from
     /// vertex 0: its two triangles on that edge are split into a

@@ -723,10 +723,13 @@ pub(crate) fn fit_part_from(
         ..SurfaceFitStats::default()
     };
     let mut current = part.clone();
-    let mut previous: Option<Part> = None;
+    // The last step taken: the part it started from, its update and the
+    // share of it taken.
+    let mut step: Option<(Part, Vec<Real>, Real)> = None;
     let mut mask: Option<Vec<bool>> = None;
     let mut last_rms = Real::INFINITY;
-    for round in 0..=opts.rounds {
+    let mut round = 0;
+    loop {
         let feet = first_feet.take().unwrap_or_else(|| feet(&current, points));
         let usable =
             |i: usize| feet[i].filter(|f| !f.at_end && weights.get(i).is_some_and(|&w| w > 0.0));
@@ -736,15 +739,30 @@ pub(crate) fn fit_part_from(
             .map(|i| usable(i).is_some_and(|f| f.signed.abs() <= cut))
             .collect();
         let rms = rms_over(&feet, mask.get_or_insert_with(|| inside.clone()));
-        // A round that leaves the points farther is undone; one that
-        // leaves them as near (converged, within rounding) is kept, so no
+        // A step that leaves the points farther is taken again at half
+        // its length (the linearisation held nearer), down to
+        // [`MIN_STEP`], else undone and the fit stops; one that leaves
+        // them as near (converged, within rounding) is kept, so no
         // rounding in the input decides how many rounds there are.
         if rms > last_rms * (1.0 + WORSE) {
-            if let Some(p) = previous.take() {
-                current = p;
-                stats.rounds -= 1;
+            let Some((from, delta, share)) = step.take() else {
+                break;
+            };
+            match (share > MIN_STEP)
+                .then(|| scaled_step(&from, &delta, 0.5 * share, opts))
+                .flatten()
+            {
+                Some((p, taken)) => {
+                    current = p;
+                    step = Some((from, delta, taken));
+                    continue;
+                }
+                None => {
+                    current = from;
+                    stats.rounds -= 1;
+                    break;
+                }
             }
-            break;
         }
         if round == 0 {
             stats.rms_before = rms;
@@ -754,18 +772,23 @@ pub(crate) fn fit_part_from(
         if round == opts.rounds {
             break;
         }
-        let round = Round {
+        let solved = Round {
             start: part.sections(),
             feet: &feet,
             inside: &inside,
             weights,
             huber: opts.huber * sigma,
-        };
-        let Some(next) = round.solve(&current, opts) else {
+        }
+        .solve(&current, opts);
+        let Some((next, taken)) = solved
+            .and_then(|d| scaled_step(&current, &d, 1.0, opts).map(|(p, taken)| (p, (d, taken))))
+        else {
             break;
         };
-        previous = Some(std::mem::replace(&mut current, next));
+        let (delta, taken) = taken;
+        step = Some((std::mem::replace(&mut current, next), delta, taken));
         stats.rounds += 1;
+        round += 1;
     }
     (stats.moved_rms, stats.moved_max) = displacement(part, &current);
     (current, stats)
@@ -783,9 +806,9 @@ struct Round<'a> {
 }
 
 impl Round<'_> {
-    /// The part after one least squares (`None` when the system is not
-    /// positive definite or the part would be invalid).
-    fn solve(&self, part: &Part, opts: &SurfaceFitOptions) -> Option<Part> {
+    /// The update of one least squares to the curves' coefficients
+    /// (`None` when the system is not positive definite).
+    fn solve(&self, part: &Part, opts: &SurfaceFitOptions) -> Option<Vec<Real>> {
         let sw = SectionWeights::of(part)?;
         let curves = part.curves();
         let layout = Layout::new(curves, opts.max_order);
@@ -855,7 +878,34 @@ impl Round<'_> {
             let d = band.get(k, k);
             *band.at(k, k) += opts.pull * d + floor;
         }
-        updated(part, &layout, &band.solve(rhs)?).ok()
+        band.solve(rhs)
+    }
+}
+
+/// The shortest share of a round's step tried ([`fit_part`]): a step
+/// halved twice.
+const MIN_STEP: Real = 0.25;
+
+/// `part` moved by `share` of the round's update `delta` (its layout
+/// rebuilt as the round built it), or by half as much while that leaves
+/// the part invalid, down to [`MIN_STEP`]: the part and the share taken.
+fn scaled_step(
+    part: &Part,
+    delta: &[Real],
+    share: Real,
+    opts: &SurfaceFitOptions,
+) -> Option<(Part, Real)> {
+    let layout = Layout::new(part.curves(), opts.max_order);
+    let mut share = share;
+    loop {
+        let d: Vec<Real> = delta.iter().map(|x| x * share).collect();
+        if let Ok(p) = updated(part, &layout, &d) {
+            return Some((p, share));
+        }
+        if share <= MIN_STEP {
+            return None;
+        }
+        share *= 0.5;
     }
 }
 

@@ -256,3 +256,25 @@ fn band_cholesky_solves_a_banded_system() {
         assert!((g - w).abs() < 1e-12);
     }
 }
+
+/// A step that would leave the part invalid is taken at half its length,
+/// then a quarter, and not at all below that: a section's curve turned
+/// clockwise (its y radius driven to its negative: the full step) or flat
+/// (half) is not a part; a quarter of the step halves that radius.
+#[test]
+fn a_step_is_halved_until_the_part_is_valid() {
+    let part = lumpy_part();
+    let opts = SurfaceFitOptions::default();
+    let layout = Layout::new(part.curves(), opts.max_order);
+    let mut delta = vec![0.0; layout.unknowns()];
+    let r = part.curves()[3].b[1];
+    delta[layout.at(3, true, 1)] = -2.0 * r;
+    let (moved, share) = scaled_step(&part, &delta, 1.0, &opts).expect("a quarter step");
+    assert_eq!(share, 0.25);
+    // (Read in the moved part's own twist, which the rebuild re-aligns.)
+    let radius = moved.curves()[3].b[1];
+    assert!((radius / r - 0.5).abs() < 0.01, "{radius} against {r}");
+    // A step no share of which down to a quarter makes a part.
+    let far: Vec<Real> = delta.iter().map(|x| x * 4.0).collect();
+    assert!(scaled_step(&part, &far, 1.0, &opts).is_none());
+}

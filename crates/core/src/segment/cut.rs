@@ -370,10 +370,16 @@ impl<'a> Cutter<'a> {
         };
         let plane = Plane::new(p, n)?;
         let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
-        let arms = self.torso_arms(part, &plane);
+        // Two surfaces closer than the image's closing bridges are one blob.
+        let cell = opts.scan.cell_size.or(seg.point_spacing).unwrap_or(0.0);
+        let bridged = 2.0 * opts.scan.closing_radius as Real * cell;
+        let left_out = SlabExclusion {
+            arms: self.torso_arms(part, &plane),
+            beyond: self.other_leg(part, &plane, bridged),
+        };
         let mut pockets = Vec::new();
         let loops: Vec<_> = self
-            .loops(&plane, p, radius, opts, &arms)
+            .loops(&plane, p, radius, opts, &left_out)
             .into_iter()
             .map(|(l, i)| match self.body {
                 BodyGeometry::Mesh(_) if part == PartName::Head => {
@@ -457,16 +463,57 @@ impl<'a> Cutter<'a> {
             .collect()
     }
 
+    /// For a leg's cut of a cloud, the half-space of the other leg: beyond
+    /// the plane midway between the two legs' axis points in `plane`
+    /// (normal to the line between them, in the plane). Thighs that touch
+    /// are one blob in a scan's slab, and a leg's loop round both folds
+    /// (body_003_scan's crotch, 9 mm RMS there); without the other leg's
+    /// points its loop is its own, the contact bridged like a scanner's
+    /// hole. `None` for other parts, a mesh (its loops are exact), where
+    /// the other leg's axis does not cross the plane, or where the legs'
+    /// surfaces lie farther apart than the slab image's closing bridges
+    /// (their radii there and `reach`: then the other leg is a loop of its
+    /// own).
+    fn other_leg(&self, part: PartName, plane: &Plane, reach: Real) -> Option<(Point3, Vec3)> {
+        let other = match part {
+            PartName::LeftLeg => PartName::RightLeg,
+            PartName::RightLeg => PartName::LeftLeg,
+            _ => return None,
+        };
+        if !matches!(self.body, BodyGeometry::Cloud(_)) {
+            return None;
+        }
+        let (mine, axis) = (self.seg.part(part)?, self.seg.part(other)?);
+        let n = plane.normal.normalized()?;
+        let height = |q: Point3| (q - plane.origin).dot(n);
+        let (q, r) = axis
+            .points
+            .windows(2)
+            .zip(axis.radii.windows(2))
+            .find_map(|(w, r)| {
+                let (a, b) = (height(w[0]), height(w[1]));
+                let t = a / (a - b);
+                (a * b <= 0.0 && a != b)
+                    .then(|| (w[0] + (w[1] - w[0]) * t, r[0] + (r[1] - r[0]) * t))
+            })?;
+        let d = q - plane.origin;
+        let flat = d - n * d.dot(n);
+        if flat.norm() > radius_near(mine, plane.origin) + r + reach {
+            return None;
+        }
+        Some((plane.origin + flat * 0.5, flat.normalized()?))
+    }
+
     /// All loops in `plane` of the geometry near `centre` (see the type's
-    /// doc), with cloud indices; a cloud's points in the `arms` tubes
-    /// ([`Cutter::torso_arms`]) left out.
+    /// doc), with cloud indices; a cloud's points that `left_out` names
+    /// ([`SlabExclusion`]) left out.
     fn loops(
         &self,
         plane: &Plane,
         centre: Point3,
         radius: Real,
         opts: &SegmentOptions,
-        arms: &[Vec<AxisBall>],
+        left_out: &SlabExclusion,
     ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
         match self.body {
             BodyGeometry::Mesh(m) => {
@@ -498,7 +545,7 @@ impl<'a> Cutter<'a> {
                     .map(|s| s.loops.into_iter().map(|l| (l, None)).collect())
                     .unwrap_or_default()
             }
-            BodyGeometry::Cloud(c) => self.cloud_loops(c, plane, centre, radius, opts, arms),
+            BodyGeometry::Cloud(c) => self.cloud_loops(c, plane, centre, radius, opts, left_out),
         }
     }
 
@@ -602,7 +649,7 @@ impl<'a> Cutter<'a> {
         centre: Point3,
         radius: Real,
         opts: &SegmentOptions,
-        arms: &[Vec<AxisBall>],
+        left_out: &SlabExclusion,
     ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
         let Some(axis) = plane.normal.normalized() else {
             return Vec::new();
@@ -638,7 +685,7 @@ impl<'a> Cutter<'a> {
             let p = pos[i as usize];
             if (p - centre).norm_squared() <= r2 {
                 let h = p.dot(axis);
-                if h >= offset - t && h <= offset + t && !arms.iter().any(|a| in_arm(a, p)) {
+                if h >= offset - t && h <= offset + t && !left_out.excludes(p) {
                     slab.push((height_key(h), i));
                 }
             }
@@ -723,6 +770,30 @@ const ARMPIT_ABOVE: Real = 0.01;
 
 /// An arm's axis point: its index along the axis, position and radius.
 type AxisBall = (usize, Point3, Real);
+
+/// The radius of `axis` at its point nearest `p`.
+fn radius_near(axis: &PartAxis, p: Point3) -> Real {
+    axis.points
+        .iter()
+        .zip(&axis.radii)
+        .min_by(|a, b| a.0.distance(p).total_cmp(&b.0.distance(p)))
+        .map_or(0.0, |(_, &r)| r)
+}
+
+/// The points a part's slab of a cloud leaves out: the arms' tubes near a
+/// torso's armpits ([`Cutter::torso_arms`]), the other leg's side of a
+/// leg's ([`Cutter::other_leg`]: a point and the normal pointing there).
+struct SlabExclusion {
+    arms: Vec<Vec<AxisBall>>,
+    beyond: Option<(Point3, Vec3)>,
+}
+
+impl SlabExclusion {
+    fn excludes(&self, p: Point3) -> bool {
+        self.beyond.is_some_and(|(m, n)| (p - m).dot(n) > 0.0)
+            || self.arms.iter().any(|a| in_arm(a, p))
+    }
+}
 
 /// The axis points of `arm` within `R + reach` of `plane` (`R` the arm's
 /// largest radius): for a point within `reach` of the plane, the nearest

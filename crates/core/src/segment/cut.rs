@@ -370,13 +370,7 @@ impl<'a> Cutter<'a> {
         };
         let plane = Plane::new(p, n)?;
         let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
-        // Two surfaces closer than the image's closing bridges are one blob.
-        let cell = opts.scan.cell_size.or(seg.point_spacing).unwrap_or(0.0);
-        let bridged = 2.0 * opts.scan.closing_radius as Real * cell;
-        let left_out = SlabExclusion {
-            arms: self.torso_arms(part, &plane),
-            beyond: self.other_leg(part, &plane, bridged),
-        };
+        let left_out = self.left_out(part, &plane, opts);
         let mut pockets = Vec::new();
         let loops: Vec<_> = self
             .loops(&plane, p, radius, opts, &left_out)
@@ -461,6 +455,21 @@ impl<'a> Cutter<'a> {
             .filter_map(|&a| seg.part(a))
             .map(|a| near_axis(a, plane, reach))
             .collect()
+    }
+
+    /// What `part`'s slab in `plane` leaves out of a cloud ([`SlabExclusion`]).
+    fn left_out(&self, part: PartName, plane: &Plane, opts: &SegmentOptions) -> SlabExclusion {
+        // Two surfaces closer than the image's closing bridges are one blob.
+        let cell = opts
+            .scan
+            .cell_size
+            .or(self.seg.point_spacing)
+            .unwrap_or(0.0);
+        let bridged = 2.0 * opts.scan.closing_radius as Real * cell;
+        SlabExclusion {
+            arms: self.torso_arms(part, plane),
+            beyond: self.other_leg(part, plane, bridged),
+        }
     }
 
     /// For a leg's cut of a cloud, the half-space of the other leg: beyond
@@ -1085,14 +1094,15 @@ mod tests {
     }
 
     /// The cut the way it was made before the [`Cutter`]: the geometry in
-    /// the ball around the axis point, sliced on its own.
+    /// the ball around the axis point (a cloud's less what the part's slab
+    /// leaves out, [`Cutter::left_out`]), sliced on its own.
     fn ball_cut(
-        body: BodyGeometry<'_>,
-        seg: &Segmentation,
+        cutter: &Cutter<'_>,
         part: PartName,
         at: Real,
         normal: Option<Vec3>,
     ) -> Vec<(SectionLoop, Option<Vec<usize>>)> {
+        let (body, seg) = (cutter.body(), cutter.segmentation());
         let axis = seg.part(part).unwrap();
         let (p, t) = axis.point_and_tangent(at).unwrap();
         let n = match normal {
@@ -1110,8 +1120,12 @@ mod tests {
                     .unwrap_or_default()
             }
             BodyGeometry::Cloud(c) => {
+                let left_out = cutter.left_out(part, &plane, &SegmentOptions::default());
                 let idx: Vec<usize> = (0..c.positions.len())
-                    .filter(|&i| (c.positions[i] - p).norm_squared() <= r2)
+                    .filter(|&i| {
+                        (c.positions[i] - p).norm_squared() <= r2
+                            && !left_out.excludes(c.positions[i])
+                    })
                     .collect();
                 let local = PointCloud {
                     positions: idx.iter().map(|&i| c.positions[i]).collect(),
@@ -1165,7 +1179,7 @@ mod tests {
                         let Ok(cut) = cutter.cut(part, at, normal, true, &opts) else {
                             continue;
                         };
-                        let reference = ball_cut(body, &seg, part, at, normal);
+                        let reference = ball_cut(&cutter, part, at, normal);
                         // One cut on its own is the ball's cut exactly.
                         let once =
                             cut_part_along(body, &seg, part, at, normal, true, &opts).unwrap();

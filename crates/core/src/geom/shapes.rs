@@ -97,6 +97,36 @@ pub fn cylinder(base: Point3, r: Real, height: Real, rings: usize, slices: usize
     }
 }
 
+/// The box `lo..hi`: its eight corners, twelve triangles facing out.
+pub fn cuboid(lo: Point3, hi: Point3) -> Mesh {
+    let corner = |i: usize| {
+        Vec3::new(
+            if i & 1 == 0 { lo.x } else { hi.x },
+            if i & 2 == 0 { lo.y } else { hi.y },
+            if i & 4 == 0 { lo.z } else { hi.z },
+        )
+    };
+    let triangles = vec![
+        [0, 2, 1],
+        [1, 2, 3],
+        [4, 5, 6],
+        [5, 7, 6],
+        [0, 1, 4],
+        [1, 5, 4],
+        [2, 6, 3],
+        [3, 6, 7],
+        [0, 4, 2],
+        [2, 4, 6],
+        [1, 3, 5],
+        [3, 7, 5],
+    ];
+    Mesh {
+        positions: (0..8).map(corner).collect(),
+        normals: None,
+        triangles,
+    }
+}
+
 /// A torus around the z axis through `center`: major radius `big_r` (centre
 /// of the tube), minor radius `r`, `n_major × n_minor` vertices.
 pub fn torus(center: Point3, big_r: Real, r: Real, n_major: usize, n_minor: usize) -> Mesh {

@@ -494,20 +494,10 @@ impl<'a> Cutter<'a> {
         }
         let (mine, axis) = (self.seg.part(part)?, self.seg.part(other)?);
         let n = plane.normal.normalized()?;
-        let height = |q: Point3| (q - plane.origin).dot(n);
-        let (q, r) = axis
-            .points
-            .windows(2)
-            .zip(axis.radii.windows(2))
-            .find_map(|(w, r)| {
-                let (a, b) = (height(w[0]), height(w[1]));
-                let t = a / (a - b);
-                (a * b <= 0.0 && a != b)
-                    .then(|| (w[0] + (w[1] - w[0]) * t, r[0] + (r[1] - r[0]) * t))
-            })?;
+        let q = axis.point_at_level(n, plane.origin.dot(n))?;
         let d = q - plane.origin;
         let flat = d - n * d.dot(n);
-        if flat.norm() > radius_near(mine, plane.origin) + r + reach {
+        if flat.norm() > mine.radius_near(plane.origin) + axis.radius_near(q) + reach {
             return None;
         }
         Some((plane.origin + flat * 0.5, flat.normalized()?))
@@ -779,15 +769,6 @@ const ARMPIT_ABOVE: Real = 0.01;
 
 /// An arm's axis point: its index along the axis, position and radius.
 type AxisBall = (usize, Point3, Real);
-
-/// The radius of `axis` at its point nearest `p`.
-fn radius_near(axis: &PartAxis, p: Point3) -> Real {
-    axis.points
-        .iter()
-        .zip(&axis.radii)
-        .min_by(|a, b| a.0.distance(p).total_cmp(&b.0.distance(p)))
-        .map_or(0.0, |(_, &r)| r)
-}
 
 /// The points a part's slab of a cloud leaves out: the arms' tubes near a
 /// torso's armpits ([`Cutter::torso_arms`]), the other leg's side of a

@@ -244,7 +244,7 @@ pub fn estimate_joints(body: BodyGeometry<'_>, seg: &Segmentation) -> Vec<(Joint
         );
         let hip_level = seg.frame.origin.dot(up) + HIP_HEIGHT * h;
         let level = ankle.dot(up) + (hip_level - ankle.dot(up)) * SHANK / (THIGH + SHANK);
-        let knee = corner.or_else(|| point_at_level(axis, up, level));
+        let knee = corner.or_else(|| axis.point_at_level(up, level));
         // Hip to knee is THIGH of THIGH + SHANK; the axis starts
         // HIP_ABOVE_CROTCH below the hip.
         let total = ankle_at + HIP_ABOVE_CROTCH * h;
@@ -453,15 +453,6 @@ fn bend_corner(axis: &PartAxis, upper: (Real, Real), lower: (Real, Real)) -> Opt
     (a.distance(b) <= r1).then_some((a + b) * 0.5)
 }
 
-/// The point of `axis` at height `level` along `up`: the crossing
-/// nearest the axis's distal end. `None` when the axis does not reach it.
-fn point_at_level(axis: &PartAxis, up: Vec3, level: Real) -> Option<Point3> {
-    axis.points.windows(2).rev().find_map(|w| {
-        let (a, b) = (w[0].dot(up) - level, w[1].dot(up) - level);
-        (a * b <= 0.0 && a != b).then(|| w[0] + (w[1] - w[0]) * (a / (a - b)))
-    })
-}
-
 /// The arc length along `axis` of its point nearest to `p`.
 fn arc_of_nearest(axis: &PartAxis, p: Point3) -> Real {
     let (mut best, mut best_at, mut acc) = (Real::INFINITY, 0.0, 0.0);
@@ -559,11 +550,11 @@ mod tests {
             Vec3::new(0.2, 0.1, 0.0),
         ]);
         let up = Vec3::new(0.0, 0.0, 1.0);
-        let p = point_at_level(&a, up, 0.75).unwrap();
+        let p = a.point_at_level(up, 0.75).unwrap();
         assert!(p.distance(Vec3::new(0.1, 0.0, 0.75)) < 1e-12, "{p:?}");
-        let p = point_at_level(&a, up, 0.25).unwrap();
+        let p = a.point_at_level(up, 0.25).unwrap();
         assert!(p.distance(Vec3::new(0.2, 0.05, 0.25)) < 1e-12, "{p:?}");
-        assert!(point_at_level(&a, up, 1.5).is_none());
+        assert!(a.point_at_level(up, 1.5).is_none());
     }
 
     /// A z-up trunk from 0.9 to 1.4 and its neck landmark.

@@ -329,6 +329,24 @@ impl PartAxis {
     pub fn max_radius(&self) -> Real {
         self.radii.iter().copied().fold(0.0, Real::max)
     }
+
+    /// The equivalent radius at the axis point nearest `p`.
+    pub fn radius_near(&self, p: Point3) -> Real {
+        self.points
+            .iter()
+            .zip(&self.radii)
+            .min_by(|a, b| a.0.distance(p).total_cmp(&b.0.distance(p)))
+            .map_or(0.0, |(_, &r)| r)
+    }
+
+    /// The axis's point at height `level` along `up`: the crossing nearest
+    /// its distal end. `None` when the axis does not reach it.
+    pub fn point_at_level(&self, up: Vec3, level: Real) -> Option<Point3> {
+        self.points.windows(2).rev().find_map(|w| {
+            let (a, b) = (w[0].dot(up) - level, w[1].dot(up) - level);
+            (a * b <= 0.0 && a != b).then(|| w[0] + (w[1] - w[0]) * (a / (a - b)))
+        })
+    }
 }
 
 /// The result of [`segment`].

@@ -104,33 +104,7 @@ fn keyed_hull_is_the_comparator_hull() {
 }
 
 fn cube(size: Real) -> Mesh {
-    let s = size;
-    let p = |x: Real, y: Real, z: Real| Vec3::new(x * s, y * s, z * s);
-    let positions = vec![
-        p(0.0, 0.0, 0.0),
-        p(1.0, 0.0, 0.0),
-        p(1.0, 1.0, 0.0),
-        p(0.0, 1.0, 0.0),
-        p(0.0, 0.0, 1.0),
-        p(1.0, 0.0, 1.0),
-        p(1.0, 1.0, 1.0),
-        p(0.0, 1.0, 1.0),
-    ];
-    let triangles = vec![
-        [0, 2, 1],
-        [0, 3, 2],
-        [4, 5, 6],
-        [4, 6, 7],
-        [0, 1, 5],
-        [0, 5, 4],
-        [1, 2, 6],
-        [1, 6, 5],
-        [2, 3, 7],
-        [2, 7, 6],
-        [3, 0, 4],
-        [3, 4, 7],
-    ];
-    Mesh::new(positions, triangles).unwrap()
+    shapes::cuboid(Vec3::ZERO, Vec3::new(size, size, size))
 }
 
 fn not_standing(err: SegmentError) -> (&'static str, String) {

@@ -79,31 +79,31 @@ fn without_gaps(skin: Mesh, cavities: &[Mesh]) -> Mesh {
     if shells.iter().all(|s| s.1 >= 0.0) {
         return skin;
     }
-    let size = skin.bounds().map_or(0.0, |b| (b.max - b.min).norm());
+    // Per void, how many of its triangles lie on a cavity, of how many.
+    let mut on = vec![(0usize, 0usize); shells.len()];
+    let voids: Vec<usize> = (0..skin.triangles.len())
+        .filter(|&t| shells[labels[t] as usize].1 < 0.0)
+        .collect();
     let lining = crate::geom::mesh::concatenate(cavities).0;
-    let near = (!lining.triangles.is_empty()).then(|| MeshDistance::new(&lining));
+    if !lining.triangles.is_empty() {
+        let centroids: Vec<Point3> = voids
+            .iter()
+            .map(|&t| {
+                let [a, b, c] = skin.triangle(t);
+                (a + b + c) / 3.0
+            })
+            .collect();
+        let size = skin.bounds().map_or(0.0, |b| (b.max - b.min).norm());
+        let d = MeshDistance::new(&lining).distances(&centroids);
+        for (&t, d) in voids.iter().zip(d) {
+            on[labels[t] as usize].0 += usize::from(d <= ON_CAVITY * size);
+        }
+    }
+    for &t in &voids {
+        on[labels[t] as usize].1 += 1;
+    }
     let lined: Vec<bool> = (0..shells.len())
-        .map(|k| {
-            if shells[k].1 >= 0.0 {
-                return true;
-            }
-            let Some(near) = &near else {
-                return false;
-            };
-            let centroids: Vec<Point3> = (0..skin.triangles.len())
-                .filter(|&t| labels[t] as usize == k)
-                .map(|t| {
-                    let [a, b, c] = skin.triangle(t);
-                    (a + b + c) / 3.0
-                })
-                .collect();
-            let on = near
-                .distances(&centroids)
-                .iter()
-                .filter(|&&d| d <= ON_CAVITY * size)
-                .count();
-            2 * on >= centroids.len()
-        })
+        .map(|k| shells[k].1 >= 0.0 || 2 * on[k].0 >= on[k].1)
         .collect();
     crate::surface::skin::kept(&skin, |t| lined[labels[t] as usize])
 }
@@ -565,37 +565,7 @@ pub fn union_volume(solids: &[Mesh], cavities: &[Mesh], up: Vec3, spacing: Real)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::shapes::cylinder;
-
-    /// A box `lo..hi`, twelve triangles facing out.
-    fn cuboid(lo: Vec3, hi: Vec3) -> Mesh {
-        let p = |i: usize| {
-            Vec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            )
-        };
-        let triangles = vec![
-            [0, 2, 1],
-            [1, 2, 3],
-            [4, 5, 6],
-            [5, 7, 6], // z faces
-            [0, 1, 4],
-            [1, 5, 4],
-            [2, 6, 3],
-            [3, 6, 7], // y faces
-            [0, 4, 2],
-            [2, 4, 6],
-            [1, 3, 5],
-            [3, 7, 5], // x faces
-        ];
-        Mesh {
-            positions: (0..8).map(p).collect(),
-            normals: None,
-            triangles,
-        }
-    }
+    use crate::geom::shapes::{cuboid, cylinder};
 
     /// Six walls overlapping at their edges enclose a gap: the closed skin
     /// is the outside alone, one shell; a pocket lined by a cavity stays.

@@ -748,10 +748,12 @@ pub(crate) fn fit_part_from(
             let Some((from, delta, share)) = step.take() else {
                 break;
             };
-            match (share > MIN_STEP)
-                .then(|| scaled_step(&from, &delta, 0.5 * share, opts))
-                .flatten()
-            {
+            let shorter = if share > MIN_STEP {
+                scaled_step(&from, &delta, 0.5 * share, opts)
+            } else {
+                None
+            };
+            match shorter {
                 Some((p, taken)) => {
                     current = p;
                     step = Some((from, delta, taken));
@@ -772,20 +774,19 @@ pub(crate) fn fit_part_from(
         if round == opts.rounds {
             break;
         }
-        let solved = Round {
+        let round_data = Round {
             start: part.sections(),
             feet: &feet,
             inside: &inside,
             weights,
             huber: opts.huber * sigma,
-        }
-        .solve(&current, opts);
-        let Some((next, taken)) = solved
-            .and_then(|d| scaled_step(&current, &d, 1.0, opts).map(|(p, taken)| (p, (d, taken))))
-        else {
+        };
+        let Some(delta) = round_data.solve(&current, opts) else {
             break;
         };
-        let (delta, taken) = taken;
+        let Some((next, taken)) = scaled_step(&current, &delta, 1.0, opts) else {
+            break;
+        };
         step = Some((std::mem::replace(&mut current, next), delta, taken));
         stats.rounds += 1;
         round += 1;

@@ -13,8 +13,9 @@ use super::{BodyDigit, BodyPart};
 use crate::anatomy::{BodyGeometry, PartName};
 use crate::geom::math::{Point3, Real};
 use crate::spatial::distance::{sample_surface_on_triangles, MeshDistance};
+use crate::spatial::point_grid::PointGrid;
 use crate::surface::fit::{
-    fit_part_from, project, Foot, PartGrid, Surface, SurfaceFitOptions, SurfaceFitStats,
+    fit_part_from, project, Coverage, Foot, PartGrid, Surface, SurfaceFitOptions, SurfaceFitStats,
 };
 use crate::surface::part::Part;
 use rayon::prelude::*;
@@ -164,8 +165,11 @@ pub(super) fn fit_to_input(
     let labels = label(&solids, &points, height, opts);
     let surface = SurfaceFitOptions {
         min_cutoff: opts.min_cutoff * height,
+        coverage_reach: LABEL_REACH * height,
         ..opts.surface
     };
+    let positions: Vec<Point3> = points.iter().map(|(p, _)| *p).collect();
+    let grid = PointGrid::new(&positions, 0.01 * height);
     let chosen: Vec<usize> = (0..solids.len())
         .filter(|&i| only.is_none_or(|o| owners[i] == o && i < parts.len()))
         .collect();
@@ -187,7 +191,15 @@ pub(super) fn fit_to_input(
                 .map(|(_, (l, (p, _)))| (*p, l.map(|(_, f)| f)))
                 .unzip();
             let weights = vec![1.0; taken.len()];
-            let (part, stats) = fit_part_from(solids[i], &taken, feet, &weights, &surface);
+            // A point no part takes (a junction's, a hole's rim) holds
+            // every part near it; one another part takes holds none.
+            let allows = |k: usize| labels[k].is_none_or(|(part, _)| part == i);
+            let cover = Coverage {
+                grid: &grid,
+                allows: &allows,
+                reach: surface.coverage_reach,
+            };
+            let (part, stats) = fit_part_from(solids[i], &taken, feet, &weights, &cover, &surface);
             (i, part, stats)
         })
         .collect();
@@ -222,12 +234,17 @@ fn input_points(input: BodyGeometry<'_>, mesh_samples: usize) -> Vec<(Point3, Op
     }
 }
 
+/// How far from a part's surface a point may lie and still be labelled
+/// to it, and a surface sample be held to a point, as a fraction of the
+/// body's height (34 mm on 1.7 m).
+const LABEL_REACH: Real = 0.02;
+
 /// Each point's part (an index into `solids`) and its foot there, or
-/// `None` where no part
-/// may take it: nearest to no part within the reach, past its nearest
-/// part's end, within the junction distance of (or inside) another part,
-/// or (a mesh's samples) on a surface turned more than 60° from the
-/// part's.
+/// `None` where no part may take it: nearest to no part within the reach,
+/// within the junction distance of (or inside) another part, or (a mesh's
+/// samples) on a surface turned more than 60° from the part's. A point
+/// past its part's end (its foot `at_end`) holds the part's surface
+/// ([`Coverage`]) but is not fitted: a cap's or a transition's.
 fn label(
     solids: &[&Part],
     points: &[(Point3, Option<Point3>)],
@@ -237,7 +254,7 @@ fn label(
     let grids: Vec<PartGrid> = solids.par_iter().map(|p| PartGrid::for_part(p)).collect();
     let surfaces: Vec<Option<Surface<'_>>> = solids.iter().map(|p| Surface::of(p)).collect();
     let trees: Vec<MeshDistance<'_>> = grids.iter().map(|g| MeshDistance::new(g.mesh())).collect();
-    let reach = 0.02 * height;
+    let reach = LABEL_REACH * height;
     let junction = opts.junction * height;
     let boxes: Vec<_> = grids
         .iter()
@@ -267,7 +284,7 @@ fn label(
             let &(best, foot) = feet
                 .iter()
                 .min_by(|a, b| a.1.signed.abs().total_cmp(&b.1.signed.abs()))?;
-            if foot.at_end || foot.signed.abs() > reach {
+            if foot.signed.abs() > reach || p.distance(foot.point) > reach {
                 return None;
             }
             if feet

@@ -18,6 +18,7 @@ use crate::curve::trig::TrigCurve;
 use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Aabb, Mesh};
 use crate::spatial::distance::MeshDistance;
+use crate::spatial::point_grid::PointGrid;
 
 /// Options of [`fit_part`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,6 +49,14 @@ pub struct SurfaceFitOptions {
     /// The least cutoff, in the points' units: a point this near the
     /// surface always takes part. Default 0 (the caller sets a scale).
     pub min_cutoff: Real,
+    /// Weight of the surface's own samples held to their nearest input
+    /// points ([`Coverage`]), all of them together relative to all the
+    /// points: 1 weighs the two halves of the distance alike. Default 1.
+    pub coverage: Real,
+    /// A surface sample farther than this from every point is not held
+    /// (it bridges a hole), in the points' units. Default 0: none is
+    /// held (the caller sets a scale).
+    pub coverage_reach: Real,
 }
 
 impl Default for SurfaceFitOptions {
@@ -61,6 +70,8 @@ impl Default for SurfaceFitOptions {
             huber: 1.345,
             cutoff: 4.0,
             min_cutoff: 0.0,
+            coverage: 1.0,
+            coverage_reach: 0.0,
         }
     }
 }
@@ -224,9 +235,17 @@ pub fn project(
             break;
         }
     }
+    foot_at(surface, (s, v), e, p)
+}
+
+/// `p`'s foot taken at `(s, v)`, where the surface evaluates to `e`
+/// (`[S, ∂S/∂s, ∂S/∂v]`): the outward normal there and `p`'s distance
+/// along it. `None` where the surface is degenerate.
+fn foot_at(surface: &Surface<'_>, (s, v): (Real, Real), e: [Vec3; 3], p: Point3) -> Option<Foot> {
     let [point, ss, sv] = e;
     // On an end, with the point beyond it along the part.
     let along = ss.dot(p - point);
+    let length = surface.length();
     let rim = 1e-9 * length;
     let at_end = (s <= rim && along < 0.0) || (s >= length - rim && along > 0.0);
     let mut normal = ss.cross(sv).normalized()?;
@@ -241,6 +260,44 @@ pub fn project(
         signed: (p - point).dot(normal),
         at_end,
     })
+}
+
+/// The input a part's surface is held to where it has no points of its
+/// own (the model → input half of the distance: a mitten's skin across
+/// the gaps between the fingers, a fold beside a junction): the input's
+/// points and which of them may hold this part.
+pub struct Coverage<'a> {
+    pub grid: &'a PointGrid<'a>,
+    /// Whether the input point of this index may hold the part (one
+    /// labelled to another part does not: the torso's skin inside an arm).
+    pub allows: &'a (dyn Fn(usize) -> bool + Sync),
+    /// Surface farther than this from every input point bridges a hole
+    /// and is left to the smoothness.
+    pub reach: Real,
+}
+
+/// The part's surface samples (a grid of its parameters: 2 rows a
+/// segment, 4 columns a harmonic up to 16 and 16 more) each with the
+/// nearest input point that may hold it, as feet of those points taken at
+/// the samples; and the number of samples.
+fn coverage_feet(part: &Part, cover: &Coverage<'_>, gate: Real) -> (Vec<Foot>, usize) {
+    let Some(surface) = Surface::of(part) else {
+        return (Vec::new(), 0);
+    };
+    let grid = PartGrid::new(part, highest_order(part).min(16) * 4 + 16, 2);
+    let nearest = cover.grid.nearest_indices(&grid.mesh.positions);
+    let feet = grid
+        .params
+        .iter()
+        .zip(nearest)
+        .filter_map(|(&[s, v], (d, i))| {
+            let near = d > gate && d <= cover.reach;
+            let i = i.filter(|&i| near && (cover.allows)(cover.grid.input_index(i)))?;
+            foot_at(&surface, (s, v), surface.eval(s, v), cover.grid.point(i))
+        })
+        .filter(|f| !f.at_end)
+        .collect();
+    (feet, grid.params.len())
 }
 
 /// A Catmull-Rom part's surface through its sections' weights: a point
@@ -705,16 +762,25 @@ pub fn fit_part(
     weights: &[Real],
     opts: &SurfaceFitOptions,
 ) -> (Part, SurfaceFitStats) {
-    fit_part_from(part, points, feet(part, points), weights, opts)
+    let grid = PointGrid::new(points, opts.coverage_reach.max(Real::MIN_POSITIVE));
+    let allows = |i: usize| weights.get(i).is_some_and(|&w| w > 0.0);
+    let cover = Coverage {
+        grid: &grid,
+        allows: &allows,
+        reach: opts.coverage_reach,
+    };
+    fit_part_from(part, points, feet(part, points), weights, &cover, opts)
 }
 
 /// [`fit_part`] with the points' feet on `part` already found (as
-/// [`project`] on [`PartGrid::for_part`] finds them: labelling did).
+/// [`project`] on [`PartGrid::for_part`] finds them: labelling did) and
+/// the input its surface is held to.
 pub(crate) fn fit_part_from(
     part: &Part,
     points: &[Point3],
     first_feet: Vec<Option<Foot>>,
     weights: &[Real],
+    cover: &Coverage<'_>,
     opts: &SurfaceFitOptions,
 ) -> (Part, SurfaceFitStats) {
     let mut first_feet = Some(first_feet);
@@ -727,7 +793,8 @@ pub(crate) fn fit_part_from(
     // share of it taken.
     let mut step: Option<(Part, Vec<Real>, Real)> = None;
     let mut mask: Option<Vec<bool>> = None;
-    let mut last_rms = Real::INFINITY;
+    let mut last_objective = Real::INFINITY;
+    let mut gate: Option<Real> = None;
     let mut round = 0;
     loop {
         let feet = first_feet.take().unwrap_or_else(|| feet(&current, points));
@@ -738,13 +805,25 @@ pub(crate) fn fit_part_from(
         let inside: Vec<bool> = (0..points.len())
             .map(|i| usable(i).is_some_and(|f| f.signed.abs() <= cut))
             .collect();
-        let rms = rms_over(&feet, mask.get_or_insert_with(|| inside.clone()));
-        // A step that leaves the points farther is taken again at half
-        // its length (the linearisation held nearer), down to
-        // [`MIN_STEP`], else undone and the fit stops; one that leaves
-        // them as near (converged, within rounding) is kept, so no
-        // rounding in the input decides how many rounds there are.
-        if rms > last_rms * (1.0 + WORSE) {
+        let mask = mask.get_or_insert_with(|| inside.clone());
+        let rms = rms_over(&feet, mask);
+        // The skin held to the input where the points are farther than
+        // the first round's Huber threshold: within it the points decide.
+        let gate = *gate.get_or_insert(opts.huber * sigma);
+        let (samples, grid_size) = if opts.coverage > 0.0 && cover.reach > 0.0 {
+            coverage_feet(&current, cover, gate)
+        } else {
+            (Vec::new(), 0)
+        };
+        let sample_share = opts.coverage / grid_size.max(1) as Real;
+        let objective = objective(&feet, mask, &samples, sample_share);
+        // A step that leaves the points (and the skin held to them)
+        // farther is taken again at half its length (the linearisation
+        // held nearer), down to [`MIN_STEP`], else undone and the fit
+        // stops; one that leaves them as near (converged, within
+        // rounding) is kept, so no rounding in the input decides how many
+        // rounds there are.
+        if objective > last_objective * (1.0 + WORSE) {
             let Some((from, delta, share)) = step.take() else {
                 break;
             };
@@ -769,7 +848,7 @@ pub(crate) fn fit_part_from(
         if round == 0 {
             stats.rms_before = rms;
         }
-        (stats.rms_after, last_rms) = (rms, rms);
+        (stats.rms_after, last_objective) = (rms, objective);
         stats.used = inside.iter().filter(|&&b| b).count();
         if round == opts.rounds {
             break;
@@ -779,6 +858,8 @@ pub(crate) fn fit_part_from(
             feet: &feet,
             inside: &inside,
             weights,
+            samples: &samples,
+            sample_share,
             huber: opts.huber * sigma,
         };
         let Some(delta) = round_data.solve(&current, opts) else {
@@ -803,6 +884,10 @@ struct Round<'a> {
     feet: &'a [Option<Foot>],
     inside: &'a [bool],
     weights: &'a [Real],
+    /// The surface's samples held to the input ([`coverage_feet`]), each
+    /// weighing this share of all the points' weight.
+    samples: &'a [Foot],
+    sample_share: Real,
     huber: Real,
 }
 
@@ -818,23 +903,29 @@ impl Round<'_> {
         let mut rhs = vec![0.0; n];
         let mut row = Vec::new();
         let mut total = 0.0;
-        for (i, foot) in self.feet.iter().enumerate() {
-            let Some(foot) = foot.filter(|_| self.inside[i]) else {
-                continue;
-            };
+        let mut add = |foot: &Foot, weight: Real| {
             let r = foot.signed;
             let huber = if r.abs() <= self.huber {
                 1.0
             } else {
                 self.huber / r.abs()
             };
-            let w = self.weights[i] * huber;
-            data_row(curves, &layout, &sw.at(foot.s), &foot, &mut row);
+            let w = weight * huber;
+            data_row(curves, &layout, &sw.at(foot.s), foot, &mut row);
             band.add_outer(&row, w);
             for &(k, x) in &row {
                 rhs[k] += w * x * r;
             }
-            total += w;
+            w
+        };
+        for (i, foot) in self.feet.iter().enumerate() {
+            if let Some(foot) = foot.filter(|_| self.inside[i]) {
+                total += add(&foot, self.weights[i]);
+            }
+        }
+        let sample_weight = self.sample_share * total;
+        for foot in self.samples {
+            add(foot, sample_weight);
         }
         let per_section = total.max(1.0) / curves.len() as Real;
         // The curves the fit started from, in the current twist.
@@ -908,6 +999,21 @@ fn scaled_step(
         }
         share *= 0.5;
     }
+}
+
+/// The weighted mean square the fit lowers: the masked points' residuals
+/// and the held skin's samples, each of those weighing `sample_share` of
+/// all the points.
+fn objective(feet: &[Option<Foot>], mask: &[bool], samples: &[Foot], sample_share: Real) -> Real {
+    let (mut sum, mut count) = (0.0, 0usize);
+    for (f, &m) in feet.iter().zip(mask) {
+        if let (Some(f), true) = (f, m) {
+            sum += f.signed * f.signed;
+            count += 1;
+        }
+    }
+    let held: Real = samples.iter().map(|f| f.signed * f.signed).sum();
+    (sum + sample_share * count as Real * held) / count.max(1) as Real
 }
 
 fn rms_over(feet: &[Option<Foot>], mask: &[bool]) -> Real {

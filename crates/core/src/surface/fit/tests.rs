@@ -278,3 +278,58 @@ fn a_step_is_halved_until_the_part_is_valid() {
     let far: Vec<Real> = delta.iter().map(|x| x * 4.0).collect();
     assert!(scaled_step(&part, &far, 1.0, &opts).is_none());
 }
+
+/// A cylinder of radius 0.1 along y whose middle section bulges to
+/// `middle` (a mitten's skin across a gap: no points of its own).
+fn bulged_cylinder(middle: Real) -> Part {
+    let curves = (0..9)
+        .map(|k| {
+            let frame =
+                Frame::from_normal(Point3::new(0.0, 0.05 * k as Real, 0.0), Vec3::Y, Vec3::X)
+                    .unwrap();
+            TrigCurve::circle(frame, if k == 4 { middle } else { 0.1 }, 2)
+        })
+        .collect();
+    Part::new(curves, &PartOptions::default()).unwrap()
+}
+
+/// The mean distance of a curve's points from the y axis.
+fn mean_radius_about_y(c: &TrigCurve) -> Real {
+    (0..32)
+        .map(|j| {
+            let p = c.point(std::f64::consts::TAU * j as Real / 32.0);
+            (p.x * p.x + p.z * p.z).sqrt()
+        })
+        .sum::<Real>()
+        / 32.0
+}
+
+/// Skin with no points of its own (a band of the cylinder the input does
+/// not sample) is held to the input's points nearest it: the bulge is
+/// pulled most of the way in, where the points alone leave it standing.
+#[test]
+fn skin_over_a_hole_is_held_to_the_nearest_points() {
+    let truth = bulged_cylinder(0.1);
+    let start = bulged_cylinder(0.13);
+    let points: Vec<Point3> = samples(&truth, 81, 48)
+        .into_iter()
+        .filter(|p| (p.y - 0.2).abs() > 0.06)
+        .collect();
+    let weights = vec![1.0; points.len()];
+    let bulge = |coverage: Real| {
+        let opts = SurfaceFitOptions {
+            min_cutoff: 0.005,
+            coverage,
+            coverage_reach: 0.1,
+            ..SurfaceFitOptions::default()
+        };
+        let (fitted, _) = fit_part(&start, &points, &weights, &opts);
+        mean_radius_about_y(&fitted.sections()[4]) - 0.1
+    };
+    let (without, with) = (bulge(0.0), bulge(1.0));
+    assert!(
+        without > 0.02,
+        "the points alone moved the bulge: {without}"
+    );
+    assert!(with < 0.3 * without, "held: {with}, alone: {without}");
+}

@@ -578,9 +578,11 @@ fn a_scan_turned_moved_shifted_in_mm_or_shuffled_gives_the_same_model() {
         );
         // Measured 1e-13 m; 1.7e-6 with a slice image turned by 90° on
         // rounding. In millimetres one section of an arm tilts by half a
-        // degree (1.2 mm at worst, measured; every other section within
-        // 1e-15 m): the same parameters and distances, not the same bits.
-        let bound = if scale == 1.0 { 1e-8 } else { 1e-3 };
+        // degree (1.2 mm at worst before the fit; every other section
+        // within 1e-15 m); the fit started from it, which holds the skin
+        // to the points nearest it, lands up to 2.5 mm apart (measured):
+        // the same parameters and distances, not the same bits.
+        let bound = if scale == 1.0 { 1e-8 } else { 2e-3 };
         assert!(
             worst < bound * body.height,
             "{name}: surfaces {worst} apart"
@@ -1007,8 +1009,12 @@ fn outer_skin(body: &Body) -> Mesh {
 
 /// The fit to the input (docs/global-fit.md) on the repository body's
 /// virtual scan, in one frame: the model nearer the body than without it
-/// (judged on the truth the scanner saw), every part's residual lower or
-/// equal, and a mesh not fitted by default. Measured: 1.995 -> 1.882 mm.
+/// (judged on the truth the scanner saw), no part's residual on the points
+/// more than 5 % higher (the skin held to the points trades a little of
+/// it: the head 1.68 -> 1.73 mm), and a mesh not fitted by default.
+/// Measured: 1.958 -> 1.890 mm (1.761 before the skin was held: its
+/// crown, above the band the eyes leave, moves out; the corpus scans come
+/// nearer).
 #[test]
 fn the_fit_brings_a_scan_s_model_nearer_the_body() {
     use trigbody_core::{compare_surfaces_seen, CompareOptions, FitMode};
@@ -1036,7 +1042,7 @@ fn the_fit_brings_a_scan_s_model_nearer_the_body() {
     assert!(with < 0.97 * without, "{without:.3} -> {with:.3} mm");
     assert!(fitted.fit.len() >= 6, "{:?}", fitted.fit);
     for f in &fitted.fit {
-        assert!(f.rms_after_mm <= f.rms_before_mm * 1.001, "{f:?}");
+        assert!(f.rms_after_mm <= f.rms_before_mm * 1.05, "{f:?}");
         assert!(f.used > 0 && f.rms_after_mm < 3.0, "{f:?}");
     }
     let (_, mesh_report) =

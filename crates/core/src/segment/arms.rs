@@ -237,13 +237,10 @@ impl Landmarking<'_> {
             how: "the arm's branch merges into the trunk",
         };
         let side = if k == 0 { self.left } else { -self.left };
-        // A scan's hanging arms keep their branch: a surface graph of the
-        // cloud costs time and does not move them.
-        let on_mesh = matches!(self.body, BodyGeometry::Mesh(_));
-        let found = match on_mesh
-            .then(|| self.surface_arm(side, trunk, out))
-            .flatten()
-        {
+        // The branch ends where horizontal slices stop cutting across the
+        // arm: at the elbow of a forearm held forward, whose hand the
+        // surface walk (a mesh's edges, a cloud's cubes) follows.
+        let found = match self.surface_arm(side, trunk, out) {
             Some(s) => join_arms(hanging, s, side, extent, HANGING_TIP_SLACK),
             None => hanging,
         };

@@ -13,9 +13,9 @@ back third of the skin); 1 mm of Gaussian noise is added, and --clumps
 clumps of 150 stray points (2 cm wide) float 0.3-1.2 m from the body.
 No normals are written. Deterministic for a given --seed.
 
-Needs numpy and the trigbody package (its reader). Not part of the
-tests yet: the cloud is refused or badly modelled today (see the notes of
-issue 37), and the test waits for the reconstruction to handle it.
+Needs numpy and the trigbody package (its reader). The test
+`a_depth_camera_s_cloud_without_a_back_is_reconstructed` makes the same
+kind of cloud in Rust; docs/global-fit.md has the numbers.
 """
 import argparse
 import json

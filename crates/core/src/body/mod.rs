@@ -738,6 +738,13 @@ fn build<'a>(
 ) -> Result<(Body, Report), ReconstructError> {
     let (body, seg0, seg, cutter, input) = (g.body, g.seg0, g.seg, &g.cutter, &g.input);
     let mut warnings = seg0.warnings.clone();
+    if cutter.unseen_side().is_some() {
+        warnings.push(
+            "the scan was seen from one side only (its trunk has no points on one side): \
+             the unseen sides are bridged from the seen ones"
+                .to_string(),
+        );
+    }
     let h = seg0.height;
     let up = seg0.frame.up;
     let floor = seg0.frame.origin.dot(up);

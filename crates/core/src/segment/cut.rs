@@ -2,7 +2,7 @@
 //! and the [`Cutter`] that shares what many cuts of one body need.
 
 use crate::anatomy::{BodyGeometry, PartName};
-use crate::geom::math::{Point2, Point3, Real, Vec3};
+use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 use crate::geom::mesh::{Mesh, PointCloud};
 use crate::geom::tolerance::ROUNDING_MARGIN;
 use crate::section::cloud::{
@@ -174,6 +174,7 @@ pub struct Cutter<'a> {
     mesh_grid: OnceLock<(BallGrid, Vec<u32>, Vec<u32>, [Point3; 2])>,
     /// The cloud's point spacing: the segmentation's, else estimated once.
     spacing: OnceLock<Option<Real>>,
+    unseen: OnceLock<Option<Vec3>>,
 }
 
 impl<'a> Cutter<'a> {
@@ -189,7 +190,39 @@ impl<'a> Cutter<'a> {
             grid: OnceLock::new(),
             mesh_grid: OnceLock::new(),
             spacing: OnceLock::new(),
+            unseen: OnceLock::new(),
         }
+    }
+
+    /// The horizontal direction a cloud was not seen from when it was
+    /// seen from one side only ([`unseen_side`]: slabs through the trunk
+    /// from a fifth to three fifths of the torso's axis, the points within
+    /// 0.15 H of it); `None` for a mesh or a cloud seen all round.
+    pub fn unseen_side(&self) -> Option<Vec3> {
+        *self.unseen.get_or_init(|| {
+            let BodyGeometry::Cloud(cloud) = self.body else {
+                return None;
+            };
+            let (seg, f) = (self.seg, &self.seg.frame);
+            let torso = seg.part(PartName::Torso)?;
+            let half = 1.5 * self.seg.point_spacing.unwrap_or(0.002 * seg.height);
+            let centres: Vec<Point3> = (0..12)
+                .filter_map(|k| torso.point_and_tangent(0.2 + 0.4 * k as Real / 11.0))
+                .map(|(p, _)| p)
+                .collect();
+            let mut slabs = vec![Vec::new(); centres.len()];
+            for &p in &cloud.positions {
+                for (slab, c) in slabs.iter_mut().zip(&centres) {
+                    let d = p - *c;
+                    let across = d - f.up * d.dot(f.up);
+                    if d.dot(f.up).abs() <= half && across.norm() <= 0.15 * seg.height {
+                        slab.push(Vec2::new(across.dot(f.left), across.dot(f.front)));
+                    }
+                }
+            }
+            let v = crate::section::cloud::unseen_side(&slabs)?;
+            (f.left * v.x + f.front * v.y).normalized()
+        })
     }
 
     /// The geometry cut.

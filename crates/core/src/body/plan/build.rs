@@ -438,7 +438,9 @@ impl InputDistance<'_> {
 /// ([`Clip::hides`], within `on_clip` of its plane) are left out: that
 /// side runs through the arm's root by design. The rest of the side
 /// counts: where it lies outside the tube (across the chest or through an
-/// armpit) it would show as a wall.
+/// armpit) it would show as a wall. Where the loop was bridged across a
+/// side the scanner did not see ([`Cut::bridge`]) the curve is judged
+/// against the bridge.
 pub(in crate::body) fn curve_offset(c: &Cut, input: &InputDistance, on_clip: Real) -> Real {
     let points: Vec<Point3> = c
         .fit
@@ -448,6 +450,11 @@ pub(in crate::body) fn curve_offset(c: &Cut, input: &InputDistance, on_clip: Rea
         .filter(|&p| !c.clips.iter().any(|k| k.hides(p, on_clip)))
         .collect();
     let mut d = input.distances(&points);
+    for (d, p) in d.iter_mut().zip(&points) {
+        for q in &c.bridge {
+            *d = d.min(p.distance(*q));
+        }
+    }
     d.sort_by(Real::total_cmp);
     d.get(d.len() * 3 / 4).copied().unwrap_or(0.0)
 }

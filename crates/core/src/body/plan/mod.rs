@@ -4,6 +4,7 @@
 use super::*;
 use crate::geom::parallel::parallel_map;
 use crate::geom::stats::{median, nth_smallest};
+use crate::section::cloud::bridge_gaps;
 use crate::section::mesh::point_in_polygon;
 
 mod build;
@@ -23,6 +24,9 @@ pub(super) struct Cut {
     /// Where a torso loop was clipped at an arm's first section
     /// ([`torso_without_arms`]).
     pub(super) clips: Vec<Clip>,
+    /// Points a scan's loop was bridged with across a side the scanner
+    /// did not see ([`bridge_gaps`]): the curve is fitted to them there.
+    pub(super) bridge: Vec<Point3>,
 }
 
 /// A plane a torso loop was clipped at, just inside an arm's first
@@ -73,6 +77,18 @@ pub(super) fn cut_and_fit(
         None => cutter.cut(name, at, normal, true, &opts.segment),
     }
     .map_err(|e| e.to_string())?;
+    // A scan's unseen sides are bridged before the torso's loops are
+    // clipped at the arms: a clip's straight side is no gap.
+    let mut bridge = Vec::new();
+    if let Some(side) = cutter.unseen_side() {
+        let (points, fills) = bridged(&cut.outline, side, seg.height);
+        if !fills.is_empty() {
+            let f = cut.outline.frame;
+            if let Some(outline) = SectionLoop::from_points(points, f.e1, f.e2) {
+                (cut.outline, bridge) = (outline, fills);
+            }
+        }
+    }
     let mut clips = Vec::new();
     if name == PartName::Torso {
         cut.outline = torso_without_arms(seg, cut.outline, shoulders, &mut clips)
@@ -119,7 +135,35 @@ pub(super) fn cut_and_fit(
         fit,
         area: cut.outline.area,
         clips,
+        bridge,
     })
+}
+
+/// A scan's loop gap wider than this fraction of the height and facing
+/// the side the scanner did not see is bridged by [`bridge_gaps`].
+const UNSEEN_GAP: Real = 0.02;
+
+/// A one-sided scan's loop with its gaps that face `side` (the gap's
+/// middle lies within 60° of `side` from the loop's centroid, in its
+/// plane) bridged, and the bridge.
+fn bridged(outline: &SectionLoop, side: Vec3, height: Real) -> (Vec<Point3>, Vec<Point3>) {
+    let points = &outline.points;
+    let mut steps: Vec<Real> = points.windows(2).map(|w| w[0].distance(w[1])).collect();
+    let step = median(&mut steps).unwrap_or(0.0);
+    let normal = outline.frame.e1.cross(outline.frame.e2);
+    let faces = |p0: Point3, p1: Point3| {
+        let out = (p0 + p1) * 0.5 - outline.centroid;
+        let (out, side) = (
+            out - normal * out.dot(normal),
+            side - normal * side.dot(normal),
+        );
+        match (out.normalized(), side.normalized()) {
+            (Some(o), Some(s)) => o.dot(s) >= 0.5,
+            _ => false,
+        }
+    };
+    let gap = UNSEEN_GAP * height;
+    bridge_gaps(points, gap, 0.5 * gap, step, &faces)
 }
 
 /// The largest relative difference between a torso section's tape girth
@@ -1014,6 +1058,7 @@ mod tests {
             fit,
             area,
             clips: Vec::new(),
+            bridge: Vec::new(),
         }
     }
 

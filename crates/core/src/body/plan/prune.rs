@@ -250,6 +250,7 @@ mod tests {
                     area: fit.curve.area().abs(),
                     fit,
                     clips: Vec::new(),
+                    bridge: Vec::new(),
                 }
             })
             .collect()

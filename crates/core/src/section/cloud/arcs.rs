@@ -3,7 +3,7 @@
 
 use super::grid::Grid;
 use super::representatives;
-use crate::geom::math::{Point2, Real, Vec2};
+use crate::geom::math::{Point2, Point3, Real, Vec2};
 use crate::geom::tolerance::PIVOT_EPS;
 
 /// Angular bins of [`merge_arcs`]' coverage measure (5° each).
@@ -311,6 +311,131 @@ fn circle_centre(points: impl Iterator<Item = Vec2>) -> Option<Vec2> {
     c.is_finite().then_some(c)
 }
 
+/// A loop's gaps wider than `min_gap` that `unseen` accepts (given the
+/// gap's two ends; between consecutive points, the last to the first
+/// included) filled with points of the cubic Hermite
+/// curve from the gap's start to its end, leaving and arriving along the
+/// loop's directions there (each taken over `reach` of the loop) with the
+/// gap's length as their magnitude, `step` apart. The loop with the fills
+/// in place is returned, and the fills alone.
+///
+/// A side the scanner did not see (one camera's cloud has no back) is
+/// closed the way the seen sides head, not by whatever a series fitted to
+/// the seen arc does past its ends (a high order swings out by several
+/// centimetres over a third of a loop).
+pub fn bridge_gaps(
+    points: &[Point3],
+    min_gap: Real,
+    reach: Real,
+    step: Real,
+    unseen: &dyn Fn(Point3, Point3) -> bool,
+) -> (Vec<Point3>, Vec<Point3>) {
+    let n = points.len();
+    if n < 4 || !(step > 0.0) {
+        return (points.to_vec(), Vec::new());
+    }
+    // The loop's direction at `i`, over `reach` backward (`back`) or
+    // forward of it.
+    let direction = |i: usize, back: bool| {
+        let mut k = i;
+        for _ in 1..n {
+            let next = if back { (k + n - 1) % n } else { (k + 1) % n };
+            k = next;
+            if points[k].distance(points[i]) >= reach {
+                break;
+            }
+        }
+        let d = if back {
+            points[i] - points[k]
+        } else {
+            points[k] - points[i]
+        };
+        d.normalized()
+    };
+    let (mut out, mut fills) = (Vec::with_capacity(n), Vec::new());
+    for i in 0..n {
+        let (p0, p1) = (points[i], points[(i + 1) % n]);
+        out.push(p0);
+        let chord = p1.distance(p0);
+        if !(chord > min_gap) || !unseen(p0, p1) {
+            continue;
+        }
+        let (Some(t0), Some(t1)) = (direction(i, true), direction((i + 1) % n, false)) else {
+            continue;
+        };
+        let (t0, t1) = (t0 * chord, t1 * chord);
+        let count = (chord / step).ceil() as usize;
+        for k in 1..count {
+            let t = k as Real / count as Real;
+            let (t2, t3) = (t * t, t * t * t);
+            let p = p0 * (2.0 * t3 - 3.0 * t2 + 1.0)
+                + t0 * (t3 - 2.0 * t2 + t)
+                + p1 * (-2.0 * t3 + 3.0 * t2)
+                + t1 * (t3 - t2);
+            out.push(p);
+            fills.push(p);
+        }
+    }
+    (out, fills)
+}
+
+/// Angular bins of [`unseen_side`] (10° each).
+const SIDE_BINS: usize = 36;
+
+/// The horizontal direction a cloud was not seen from, when it was seen
+/// from one side only (one depth camera: no back), else `None`.
+///
+/// `levels` horizontal slabs (`half` thick) through the trunk, each a
+/// set of points: about the slab's centroid each slab's points fill
+/// `SIDE_BINS` angular bins; a slab with an empty run of at least 60°
+/// votes for the middle of that run. The cloud is one-sided when at
+/// least 70 % of the slabs vote and their votes agree (the mean of the
+/// unit votes at least 0.8 long). A scanner all around leaves holes
+/// (armpits, the crotch), not a side of the trunk.
+pub fn unseen_side(slabs: &[Vec<Point2>]) -> Option<Vec2> {
+    let mut votes = Vec::new();
+    for pts in slabs.iter().filter(|p| p.len() >= 12) {
+        let c = pts.iter().fold(Vec2::ZERO, |a, &p| a + p) * (1.0 / pts.len() as Real);
+        let mut full = [false; SIDE_BINS];
+        for &p in pts {
+            let a = (p - c).y.atan2((p - c).x).rem_euclid(std::f64::consts::TAU);
+            full[((a / std::f64::consts::TAU * SIDE_BINS as Real) as usize).min(SIDE_BINS - 1)] =
+                true;
+        }
+        // The longest cyclic run of empty bins.
+        let Some(start) = (0..SIDE_BINS).find(|&k| full[k]) else {
+            continue;
+        };
+        let (mut best, mut run) = ((0, 0), 0);
+        for k in 1..=SIDE_BINS {
+            let b = (start + k) % SIDE_BINS;
+            if full[b] {
+                run = 0;
+            } else {
+                run += 1;
+                if run > best.1 {
+                    best = (b, run);
+                }
+            }
+        }
+        if best.1 * 6 >= SIDE_BINS {
+            let mid = best.0 as Real + 0.5 - 0.5 * best.1 as Real;
+            let a = mid / SIDE_BINS as Real * std::f64::consts::TAU;
+            votes.push(Vec2::new(a.cos(), a.sin()));
+        }
+    }
+    let voted = slabs.iter().filter(|p| p.len() >= 12).count();
+    if voted == 0 || (votes.len() as Real) < 0.7 * voted as Real {
+        return None;
+    }
+    let mean = votes.iter().fold(Vec2::ZERO, |a, &v| a + v) * (1.0 / votes.len() as Real);
+    if mean.norm() >= 0.8 {
+        mean.normalized()
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -327,5 +452,65 @@ mod tests {
             }
         }
         assert_eq!(fast_atan2(0.0, 0.0), 0.0);
+    }
+
+    fn circle(r: Real, from: Real, to: Real, n: usize) -> Vec<Point3> {
+        (0..n)
+            .map(|k| {
+                let a = from + (to - from) * k as Real / (n - 1) as Real;
+                Point3::new(r * a.cos(), r * a.sin(), 0.0)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_third_of_a_circle_unseen_is_bridged_near_the_circle() {
+        use std::f64::consts::PI;
+        let arc = circle(0.1, 0.0, 4.0 * PI / 3.0, 120);
+        let step = arc[0].distance(arc[1]);
+        let (all, fills) = bridge_gaps(&arc, 0.02, 0.01, step, &|_, _| true);
+        assert_eq!(all.len(), arc.len() + fills.len());
+        // The gap is the chord of 120°: 0.173 long, a point every `step`.
+        assert!(fills.len() >= 40, "{}", fills.len());
+        for p in &fills {
+            let r = p.norm();
+            assert!((r - 0.1).abs() < 0.012, "{r}");
+            assert!(p.y < 0.0, "{p:?}");
+        }
+        // Gaps the caller does not call unseen, and narrower ones, stay.
+        assert!(bridge_gaps(&arc, 0.02, 0.01, step, &|_, _| false)
+            .1
+            .is_empty());
+        assert!(bridge_gaps(&arc, 0.2, 0.01, step, &|_, _| true)
+            .1
+            .is_empty());
+    }
+
+    fn slab(r: Real, skip: impl Fn(Real) -> bool) -> Vec<Point2> {
+        (0..360)
+            .map(|k| (k as Real).to_radians())
+            .filter(|&a| !skip(a))
+            .map(|a| Point2::new(1.5 * r * a.cos(), r * a.sin()))
+            .collect()
+    }
+
+    #[test]
+    fn a_trunk_seen_from_one_side_is_told_from_one_with_holes() {
+        use std::f64::consts::PI;
+        // The back (about −y) missing over 120° at every level.
+        let back = |a: Real| (a - 1.5 * PI).abs() < PI / 3.0;
+        let one_sided: Vec<Vec<Point2>> = (0..10).map(|_| slab(0.12, back)).collect();
+        let side = unseen_side(&one_sided).unwrap();
+        assert!(side.dot(Vec2::new(0.0, -1.0)) > 0.99, "{side:?}");
+        // All round with 20° holes (an armpit's, the crotch's): not one-sided.
+        let holes: Vec<Vec<Point2>> = (0..10)
+            .map(|k| slab(0.12, |a| (a - k as Real * 0.6).abs() < 0.17))
+            .collect();
+        assert_eq!(unseen_side(&holes), None);
+        // Wide gaps facing every way: a cloud with holes, not one camera's.
+        let scattered: Vec<Vec<Point2>> = (0..10)
+            .map(|k| slab(0.12, |a| (a - k as Real * 0.63).abs() < PI / 3.0))
+            .collect();
+        assert_eq!(unseen_side(&scattered), None);
     }
 }

@@ -70,6 +70,7 @@ mod contour;
 pub(crate) mod grid;
 mod spacing;
 
+pub use arcs::{bridge_gaps, unseen_side};
 use arcs::{merge_arcs, order_by_angle};
 use contour::{order_component, Ordering};
 use grid::{Grid, NONE};

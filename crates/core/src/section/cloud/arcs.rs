@@ -379,15 +379,12 @@ pub fn bridge_gaps(
     (out, fills)
 }
 
-/// Angular bins of [`unseen_side`] (10° each).
-const SIDE_BINS: usize = 36;
-
 /// The horizontal direction a cloud was not seen from, when it was seen
 /// from one side only (one depth camera: no back), else `None`.
 ///
-/// `levels` horizontal slabs (`half` thick) through the trunk, each a
-/// set of points: about the slab's centroid each slab's points fill
-/// `SIDE_BINS` angular bins; a slab with an empty run of at least 60°
+/// `slabs`: horizontal slabs through the trunk, each a set of points in
+/// its plane. About the slab's centroid its points fill the 5° bins of
+/// [`coverage`]; a slab with an empty run of at least 60°
 /// votes for the middle of that run. The cloud is one-sided when at
 /// least 70 % of the slabs vote and their votes agree (the mean of the
 /// unit votes at least 0.8 long). A scanner all around leaves holes
@@ -396,19 +393,14 @@ pub fn unseen_side(slabs: &[Vec<Point2>]) -> Option<Vec2> {
     let mut votes = Vec::new();
     for pts in slabs.iter().filter(|p| p.len() >= 12) {
         let c = pts.iter().fold(Vec2::ZERO, |a, &p| a + p) * (1.0 / pts.len() as Real);
-        let mut full = [false; SIDE_BINS];
-        for &p in pts {
-            let a = (p - c).y.atan2((p - c).x).rem_euclid(std::f64::consts::TAU);
-            full[((a / std::f64::consts::TAU * SIDE_BINS as Real) as usize).min(SIDE_BINS - 1)] =
-                true;
-        }
+        let full = coverage(pts.iter().map(|&p| p - c));
         // The longest cyclic run of empty bins.
-        let Some(start) = (0..SIDE_BINS).find(|&k| full[k]) else {
+        let Some(start) = (0..COVERAGE_BINS).find(|&k| full[k]) else {
             continue;
         };
         let (mut best, mut run) = ((0, 0), 0);
-        for k in 1..=SIDE_BINS {
-            let b = (start + k) % SIDE_BINS;
+        for k in 1..=COVERAGE_BINS {
+            let b = (start + k) % COVERAGE_BINS;
             if full[b] {
                 run = 0;
             } else {
@@ -418,9 +410,9 @@ pub fn unseen_side(slabs: &[Vec<Point2>]) -> Option<Vec2> {
                 }
             }
         }
-        if best.1 * 6 >= SIDE_BINS {
+        if best.1 * 6 >= COVERAGE_BINS {
             let mid = best.0 as Real + 0.5 - 0.5 * best.1 as Real;
-            let a = mid / SIDE_BINS as Real * std::f64::consts::TAU;
+            let a = mid / COVERAGE_BINS as Real * std::f64::consts::TAU;
             votes.push(Vec2::new(a.cos(), a.sin()));
         }
     }

@@ -9,7 +9,8 @@
 //! ```
 //!
 //! `REPORT_EDGE` and `REPORT_SAMPLES` in the environment override the
-//! report's tessellation edge (fraction of H) and sample count.
+//! report's tessellation edge (fraction of H) and sample count;
+//! `SCAN_FRAMES` the frames a scan is reconstructed in.
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -27,6 +28,9 @@ fn run(name: &str, body: BodyGeometry<'_>, runs: usize) {
     }
     if let Some(n) = env("REPORT_SAMPLES").and_then(|v| v.parse().ok()) {
         opts.report_samples = n;
+    }
+    if let Some(n) = env("SCAN_FRAMES").and_then(|v| v.parse().ok()) {
+        opts.scan_frames = n;
     }
     let mut totals = Vec::new();
     let mut best: Vec<(String, f64)> = Vec::new();

@@ -1198,3 +1198,49 @@ fn a_depth_camera_s_cloud_without_a_back_is_reconstructed() {
         .iter()
         .any(|w| w.contains("seen from one side")));
 }
+
+/// Arms pressed to the trunk (corpus body_027 and body_036, the "close"
+/// pose): an arm without a shoulder transition started short of the
+/// torso (its upper arm's cuts took in the trunk and were dropped), and
+/// the closed skin came out with the arm as a solid of its own. The arm's
+/// first section is carried back into the torso: one solid shell, the
+/// other shells the head's cavities (voids).
+#[test]
+fn an_arm_pressed_to_the_trunk_stays_joined_to_it() {
+    use trigbody_core::internals::surface::closed_skin::{check_closed, closed_skin};
+    let Some(data) = shared_data() else {
+        eprintln!("NOTE: shared data missing: arms pressed to the trunk are not checked");
+        return;
+    };
+    for (name, units) in [
+        ("body_027", Units::Metres),
+        ("body_036", Units::Centimetres),
+    ] {
+        let path = data.join("corpus").join(format!("{name}.ply"));
+        let mesh = read_mesh(&path, &ReadOptions::default()).unwrap();
+        let opts = ReconstructOptions {
+            units,
+            ..ReconstructOptions::default()
+        };
+        let (model, report) = reconstruct(BodyGeometry::Mesh(&mesh), &opts).unwrap();
+        assert!(
+            report
+                .warnings
+                .iter()
+                .any(|w| w.contains("its tube started outside the torso")),
+            "{name}: {:?}",
+            report.warnings
+        );
+        let tess = TessellationOptions {
+            target_edge: Some(0.004 * model.height),
+            ..TessellationOptions::default()
+        };
+        let pieces = model.tessellate_pieces(&tess).unwrap();
+        let (solids, cavities) = pieces.split_at(pieces.len() - model.cavities.len());
+        let check = check_closed(&closed_skin(solids, cavities).unwrap());
+        let solid_shells = check.shells.iter().filter(|s| s.1 > 0.0).count();
+        println!("{name}: {check:?}");
+        assert_eq!(solid_shells, 1, "{name}: {check:?}");
+        assert_eq!(check.bad_edges, 0, "{name}: {check:?}");
+    }
+}

@@ -87,6 +87,7 @@ use rayon::prelude::*;
 use std::fmt;
 use thiserror::Error;
 
+mod attach;
 mod cavity;
 mod digits;
 mod fit;
@@ -863,6 +864,7 @@ fn build<'a>(
             }
         }
     };
+    attach::attach_arms(&mut parts, shoulders, (seg0, opts), &mut warnings);
     progress("cavities");
     let cavities = head_cavities(cutter, &parts, input, opts, &mut warnings);
     let model = Body {

@@ -44,6 +44,9 @@ const BAND: Real = 0.01;
 /// A ring wider than this many times the arm's median ring has reached
 /// the shoulder.
 const SHOULDER_WIDE: Real = 1.6;
+/// How far past a wide ring (fraction of `H`) the rings must stay as wide
+/// for it to be the shoulder's.
+const SHOULDER_STAYS: Real = 0.05;
 /// The cube side (fraction of `H`) of a cloud's surface graph: a few
 /// scanner spacings, well under an arm's width.
 const CLOUD_CELL: Real = 0.006;
@@ -213,20 +216,25 @@ fn arm_from_tip(
         .map(|k| centroid[k].map(|c| (c, spread[k].0 / spread[k].1)))
         .collect();
     // Past the hand (0.15 H), the first ring wider than the median of the
-    // rings since the hand's middle is the shoulder.
+    // rings since the hand's middle, and the rings over the next
+    // [`SHOULDER_STAYS`] as wide (their median), is the shoulder: a bent
+    // elbow's ring is as wide, but the upper arm's rings after it are not.
     let past_hand = (0.15 * extent / band).ceil() as usize;
+    let stays = (SHOULDER_STAYS * extent / band).ceil() as usize;
     let mut end = None;
+    let widths =
+        |r: &[Option<(Point3, Real)>]| -> Vec<Real> { r.iter().flatten().map(|x| x.1).collect() };
     for k in past_hand..count {
         let Some((_, r)) = rings[k] else { continue };
-        let mut before: Vec<Real> = rings[past_hand / 2..k]
-            .iter()
-            .flatten()
-            .map(|x| x.1)
-            .collect();
+        let mut before = widths(&rings[past_hand / 2..k]);
         if before.len() < 3 {
             continue;
         }
-        if median(&mut before).is_some_and(|m| r > SHOULDER_WIDE * m) {
+        let Some(wide) = median(&mut before).map(|m| SHOULDER_WIDE * m) else {
+            continue;
+        };
+        let mut after = widths(&rings[k + 1..(k + 1 + stays).min(count)]);
+        if r > wide && median(&mut after).is_none_or(|m| m > wide) {
             end = Some(k);
             break;
         }
@@ -446,6 +454,28 @@ mod tests {
             assert!(c.x.hypot(c.y) < 1e-3, "{c:?}");
             assert!((r - 0.05).abs() < 0.01 || c.z > 0.35, "{c:?} {r}");
         }
+    }
+
+    #[test]
+    fn a_bent_elbow_s_wide_ring_is_not_the_shoulder() {
+        // A forearm (radius 0.05) to 0.15, an elbow's wide ring (0.09) to
+        // 0.165, a thicker upper arm (0.06) to 0.3, then the shoulder
+        // spreading (to 0.15 over 0.05).
+        let mut m = shapes::cylinder(Vec3::ZERO, 0.05, 1.0, 201, 32);
+        for p in &mut m.positions {
+            let s = match p.z {
+                z if z < 0.15 => 1.0,
+                z if z < 0.165 => 1.8,
+                z if z < 0.3 => 1.2,
+                z => 1.2 + 1.8 * ((z - 0.3) / 0.05).min(1.0),
+            };
+            *p = Vec3::new(p.x * s, p.y * s, p.z);
+        }
+        let tip = m.positions.len() - 2;
+        let g = SurfaceGraph::new(&m);
+        let axis = arm_from_tip(&g, &m.positions, &vertex_areas(&m), tip, 1.0).unwrap();
+        let top = axis[0].0;
+        assert!(top.z > 0.25 && top.z < 0.35, "{top:?}");
     }
 
     #[test]

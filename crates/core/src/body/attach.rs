@@ -1,4 +1,4 @@
-//! Arms attached to the torso where no shoulder transition joins them.
+//! Limbs attached to their parents where nothing else joins them.
 //!
 //! An arm whose shoulder transition was left out (or never planned: an
 //! arm held out sideways) relies on the torso reaching into it. When the
@@ -7,8 +7,10 @@
 //! do not meet and the closed skin comes out in pieces: a floating arm.
 //! Such an arm gets its first section again, carried back along its axis
 //! by steps of the section spacing until the copy's centre lies inside the
-//! torso, and one step further so that the two solids overlap (as a
-//! digit's first section is repeated inside the palm).
+//! torso, and one step further so that the two solids overlap. A digit
+//! whose first section (already repeated back inside the palm as built)
+//! still lies outside its hand, a thumb leaving the palm sideways, is
+//! carried back into the hand the same way.
 
 use super::*;
 use crate::geom::math::Point2;
@@ -17,10 +19,11 @@ use crate::section::mesh::point_in_polygon;
 /// Points around the torso's curve for the inside test.
 const AROUND: usize = 64;
 
-/// Whether `p` lies inside the torso `torso`: inside its curve at the
-/// height of `p` along `up`, both projected across `up`.
-fn inside_torso(torso: &Part, up: Vec3, p: Point3) -> bool {
-    let Some(s) = torso.s_at_level(up, p.dot(up)) else {
+/// Whether `p` lies inside `part`: inside its curve at the height of `p`
+/// along `up` (the part's centre line rising along it), both projected
+/// across `up`.
+fn inside_at_level(part: &Part, up: Vec3, p: Point3) -> bool {
+    let Some(s) = part.s_at_level(up, p.dot(up)) else {
         return false;
     };
     let e1 = up.any_perpendicular();
@@ -29,48 +32,41 @@ fn inside_torso(torso: &Part, up: Vec3, p: Point3) -> bool {
     let poly: Vec<Point2> = (0..AROUND)
         .map(|k| {
             let v = std::f64::consts::TAU * k as Real / AROUND as Real;
-            flat(torso.point(s, v))
+            flat(part.point(s, v))
         })
         .collect();
     point_in_polygon(flat(p), &poly)
 }
 
-/// `arm` with its first section repeated back along its axis into
-/// `torso` (module doc): steps of `step`, at most `reach` back. `None`
-/// when its first section's centre already lies inside the torso, or no
-/// step within `reach` gets there.
+/// `part` (its section fits `fits`) with its first section repeated back
+/// along its axis until its centre lies inside `into` (by
+/// [`inside_at_level`] along `up`; module doc): steps of `step`, at most
+/// `reach` back; with how far it was carried. `None` when its first
+/// section's centre already lies inside, or no step within `reach` gets
+/// there.
 pub(super) fn carried_back(
-    arm: &BodyPart,
-    torso: &Part,
-    up: Vec3,
+    (part, fits): (&Part, &[SectionFit]),
+    (into, up): (&Part, Vec3),
     step: Real,
     reach: Real,
-) -> Option<(BodyPart, Real)> {
-    let part = &arm.part;
+) -> Option<(Part, Vec<SectionFit>, Real)> {
     let start = part.centre(0.0);
-    if inside_torso(torso, up, start) || !(step > 0.0) {
+    if inside_at_level(into, up, start) || !(step > 0.0) {
         return None;
     }
     let back = (start - part.centre((0.5 * step).min(part.length()))).normalized()?;
     let steps = (reach / step).floor() as usize;
-    let k = (1..=steps).find(|&k| inside_torso(torso, up, start + back * (k as Real * step)))?;
+    let k = (1..=steps).find(|&k| inside_at_level(into, up, start + back * (k as Real * step)))?;
     let shift = back * ((k + 1) as Real * step);
     let mut first = part.sections().first()?.clone();
     first.frame.origin += shift;
     let mut curves = vec![first];
     curves.extend(part.sections().iter().cloned());
     let carried = Part::new(curves, part.options()).ok()?;
-    let mut fits = arm.fits.clone();
+    let mut fits = fits.to_vec();
     let at = fits.first()?.at - shift.norm() / part.length().max(Real::MIN_POSITIVE);
     fits.insert(0, SectionFit { at, ..fits[0] });
-    Some((
-        BodyPart {
-            name: arm.name,
-            part: carried,
-            fits,
-        },
-        shift.norm(),
-    ))
+    Some((carried, fits, shift.norm()))
 }
 
 /// Each arm that no shoulder transition joins and whose tube starts
@@ -83,7 +79,7 @@ pub(super) fn attach_arms(
     (seg, opts): (&Segmentation, &ReconstructOptions),
     warnings: &mut Vec<String>,
 ) {
-    let (up, h) = (seg.frame.up, seg.height);
+    let h = seg.height;
     let step = opts.spacing * h;
     let Some(torso) = parts.iter().find(|p| p.name == PartName::Torso) else {
         return;
@@ -99,8 +95,10 @@ pub(super) fn attach_arms(
         let Some(p) = parts.iter_mut().find(|p| p.name == arm) else {
             continue;
         };
-        if let Some((carried, by)) = attach::carried_back(p, &torso, up, step, ATTACH_REACH * h) {
-            *p = carried;
+        let reach = ATTACH_REACH * h;
+        let into = (&torso, seg.frame.up);
+        if let Some((part, fits, by)) = carried_back((&p.part, &p.fits), into, step, reach) {
+            (p.part, p.fits) = (part, fits);
             warnings.push(format!(
                 "{arm}: its tube started outside the torso; its first section is repeated {:.0} % of the height back along its axis, inside the torso",
                 100.0 * by / h
@@ -112,6 +110,47 @@ pub(super) fn attach_arms(
 /// How far back (fraction of `H`) an arm's first section may be carried
 /// to reach the torso ([`attach_arms`]).
 pub const ATTACH_REACH: Real = 0.15;
+
+/// Each digit whose first section's centre lies outside its hand, carried
+/// back into it ([`carried_back`] along the hand's direction at its end,
+/// at most [`DIGIT_REACH`] × `H`, by steps of [`DIGIT_SPACING`] × `H`),
+/// with a warning: a thumb that leaves the palm sideways can start beside
+/// it.
+pub(super) fn attach_digits(
+    parts: &[BodyPart],
+    digits: &mut [BodyDigit],
+    h: Real,
+    warnings: &mut Vec<String>,
+) {
+    let mut number = std::collections::HashMap::new();
+    for d in digits.iter_mut() {
+        let k = number.entry(d.hand).or_insert(0);
+        *k += 1;
+        let Some(hand) = parts.iter().find(|p| p.name == d.hand) else {
+            continue;
+        };
+        let l = hand.part.length();
+        let end = hand.part.centre(l);
+        let Some(along) = (end - hand.part.centre((l - DIGIT_REACH * h).max(0.0))).normalized()
+        else {
+            continue;
+        };
+        let (step, reach) = (DIGIT_SPACING * h, DIGIT_REACH * h);
+        let into = (&hand.part, along);
+        if let Some((part, fits, by)) = carried_back((&d.part, &d.fits), into, step, reach) {
+            (d.part, d.fits) = (part, fits);
+            warnings.push(format!(
+                "{}: digit {k}: its tube started outside the hand; its first section is repeated {:.1} % of the height back along it, inside the hand",
+                d.hand,
+                100.0 * by / h
+            ));
+        }
+    }
+}
+
+/// How far back (fraction of `H`) a digit's first section may be carried
+/// to reach its hand ([`attach_digits`]): about a finger's length.
+pub const DIGIT_REACH: Real = 0.05;
 
 #[cfg(test)]
 mod tests {
@@ -178,7 +217,7 @@ mod tests {
             0.04,
             6,
         ));
-        assert!(!inside_torso(&torso, up, arm.part.centre(0.0)));
+        assert!(!inside_at_level(&torso, up, arm.part.centre(0.0)));
         // Tilted in towards the torso's axis, its axis reaches it.
         let tilted = arm_of(tube(
             Point3::new(0.25, 0.0, 1.2),
@@ -186,19 +225,20 @@ mod tests {
             0.04,
             6,
         ));
-        let (carried, moved) = carried_back(&tilted, &torso, up, 0.02, 0.3).expect("carried");
-        assert_eq!(carried.part.sections().len(), 7);
-        assert_eq!(carried.fits.len(), 7);
-        assert!(carried.fits[0].at < carried.fits[1].at);
-        let first = carried.part.centre(0.0);
-        assert!(inside_torso(&torso, up, first), "{first:?}");
+        let (carried, fits, moved) =
+            carried_back((&tilted.part, &tilted.fits), (&torso, up), 0.02, 0.3).expect("carried");
+        assert_eq!(carried.sections().len(), 7);
+        assert_eq!(fits.len(), 7);
+        assert!(fits[0].at < fits[1].at);
+        let first = carried.centre(0.0);
+        assert!(inside_at_level(&torso, up, first), "{first:?}");
         assert!(moved <= 0.3 + 0.02 && moved > 0.1, "{moved}");
         // The rest of the arm is as it was.
         let old = tilted.part.centre(tilted.part.length());
-        let new = carried.part.centre(carried.part.length());
+        let new = carried.centre(carried.length());
         assert!(old.distance(new) < 1e-9, "{old:?} {new:?}");
         // Hanging straight down, its axis never meets the torso: left alone.
-        assert!(carried_back(&arm, &torso, up, 0.02, 0.3).is_none());
+        assert!(carried_back((&arm.part, &arm.fits), (&torso, up), 0.02, 0.3).is_none());
         // An arm starting inside the torso already is left alone.
         let inside = arm_of(tube(
             Point3::new(0.1, 0.0, 1.2),
@@ -206,6 +246,6 @@ mod tests {
             0.04,
             6,
         ));
-        assert!(carried_back(&inside, &torso, up, 0.02, 0.3).is_none());
+        assert!(carried_back((&inside.part, &inside.fits), (&torso, up), 0.02, 0.3).is_none());
     }
 }

@@ -865,6 +865,7 @@ fn build<'a>(
         }
     };
     attach::attach_arms(&mut parts, shoulders, (seg0, opts), &mut warnings);
+    attach::attach_digits(&parts, &mut digits, h, &mut warnings);
     progress("cavities");
     let cavities = head_cavities(cutter, &parts, input, opts, &mut warnings);
     let model = Body {

@@ -25,6 +25,14 @@
 //! dropped by patches, decided by ray winding numbers); the whole-soup
 //! rebuild ([`whole_soup_skin`]) runs when that fails its own check.
 //!
+//! The exact crossing points, rounded to floating point, leave degenerate
+//! triangles: specks of shells, micro-edges and caps (a vertex on the
+//! opposite edge). They are tidied away: specks dropped, micro-edges
+//! collapsed, caps flipped into their neighbours (the surface unchanged).
+//! Manifold's own clean-up on import (`RemoveDegenerates`) removed every
+//! zero-area triangle of the corpus skins too, but split five of 52 into
+//! extra shells and crossed one: not used.
+//!
 //! [`check_closed`] is an independent check of such a mesh (edges,
 //! components, orientation, triangle–triangle intersections over a box
 //! hierarchy), used by the tests and the diagnostics.
@@ -279,8 +287,93 @@ fn shell_labels(m: &Mesh) -> (Vec<u32>, Vec<(usize, Real)>) {
 
 /// A rebuilt skin without its specks and slivers, whichever path made it.
 fn tidied(m: Mesh) -> Mesh {
-    without_slivers(without_specks(m))
+    let mut m = without_slivers(without_specks(m));
+    // A flip can leave its neighbour a cap in turn.
+    for _ in 0..CAP_PASSES {
+        let before = m.triangles.clone();
+        m = without_caps(m);
+        if m.triangles == before {
+            break;
+        }
+    }
+    m
 }
+
+/// The most passes of [`without_caps`].
+const CAP_PASSES: usize = 3;
+
+/// `m` with its caps flipped away: a cap is a triangle of (near) zero
+/// area whose edges are not short, one vertex lying on the opposite edge
+/// (within [`CAP`] times that edge's length), which the exact
+/// arrangement leaves where a crossing point falls on an edge and a
+/// short-edge collapse does not reach. Its longest edge is flipped to join
+/// that vertex to the neighbour's opposite one, which splits the
+/// neighbour at it: the same surface, without the cap. A flip that would
+/// make an edge that exists already is skipped. `m` as given when the
+/// result is not closed and consistently oriented.
+fn without_caps(m: Mesh) -> Mesh {
+    let p = |v: u32| m.positions[v as usize];
+    let is_cap = |t: &[u32; 3]| -> Option<usize> {
+        let e = |k: usize| p(t[(k + 1) % 3]) - p(t[k]);
+        let k = (0..3).max_by(|&a, &b| e(a).norm().total_cmp(&e(b).norm()))?;
+        let long = e(k).norm();
+        let area2 = e(0).cross(e(1)).norm();
+        (long > 0.0 && area2 < CAP * long * long).then_some(k)
+    };
+    let mut triangles = m.triangles.clone();
+    let mut owner: std::collections::HashMap<(u32, u32), usize> = triangles
+        .iter()
+        .enumerate()
+        .flat_map(|(i, t)| (0..3).map(move |k| ((t[k], t[(k + 1) % 3]), i)))
+        .collect();
+    let mut flipped = false;
+    for i in 0..triangles.len() {
+        let Some(k) = is_cap(&triangles[i]) else {
+            continue;
+        };
+        let t = triangles[i];
+        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+        let Some(&j) = owner.get(&(b, a)) else {
+            continue;
+        };
+        let u = triangles[j];
+        let Some(&d) = u.iter().find(|&&v| v != a && v != b) else {
+            continue;
+        };
+        if d == c || owner.contains_key(&(c, d)) || owner.contains_key(&(d, c)) {
+            continue;
+        }
+        // (a, b, c) and (b, a, d) become (a, d, c) and (d, b, c).
+        for key in [(a, b), (b, c), (c, a), (b, a), (a, d), (d, b)] {
+            owner.remove(&key);
+        }
+        triangles[i] = [a, d, c];
+        triangles[j] = [d, b, c];
+        for (n, t) in [(i, triangles[i]), (j, triangles[j])] {
+            for k in 0..3 {
+                owner.insert((t[k], t[(k + 1) % 3]), n);
+            }
+        }
+        flipped = true;
+    }
+    if !flipped {
+        return m;
+    }
+    let out = Mesh {
+        positions: m.positions.clone(),
+        normals: None,
+        triangles,
+    };
+    if out.edge_faults() != (0, 0) {
+        return m;
+    }
+    out
+}
+
+/// A triangle whose doubled area is under this fraction of its longest
+/// edge squared is a cap ([`without_caps`]): its third vertex within a
+/// millionth of that edge's length from it.
+pub const CAP: Real = 1e-6;
 
 /// `m` without its specks: shells enclosing less than [`SPECK`] of the
 /// largest one's volume (either way round). The arrangement leaves a few
@@ -566,6 +659,58 @@ pub fn union_volume(solids: &[Mesh], cavities: &[Mesh], up: Vec3, spacing: Real)
 mod tests {
     use super::*;
     use crate::geom::shapes::{cuboid, cylinder};
+
+    /// A tetrahedron whose face (a, b, x) is split at the midpoint c of
+    /// ab into (a, c, x) and (c, b, x), closed by the cap (a, b, c): the
+    /// cap is flipped into its neighbour across ab, which splits it at c.
+    #[test]
+    fn a_cap_is_flipped_away_and_the_surface_kept() {
+        let (a, b, x, d) = (0u32, 1u32, 2u32, 3u32);
+        let c = 4u32;
+        let v = Vec3::new;
+        let positions = vec![
+            v(0.0, 0.0, 0.0),
+            v(1.0, 0.0, 0.0),
+            v(0.3, 1.0, 0.0),
+            v(0.4, 0.3, 1.0),
+            v(0.5, 0.0, 0.0),
+        ];
+        // The tetrahedron (a, b, x) down, the rest up and out.
+        let tetra = [[a, x, b], [a, b, d], [b, x, d], [x, a, d]];
+        let whole = Mesh {
+            positions: positions.clone(),
+            normals: None,
+            triangles: tetra.to_vec(),
+        };
+        assert_eq!(whole.edge_faults(), (0, 0));
+        // Face (a, b, d) split at c, with the cap.
+        let split = Mesh {
+            positions,
+            normals: None,
+            triangles: vec![
+                [a, x, b],
+                [a, c, d],
+                [c, b, d],
+                [a, b, c],
+                [b, x, d],
+                [x, a, d],
+            ],
+        };
+        assert_eq!(split.edge_faults(), (0, 0));
+        let area = |m: &Mesh, t: usize| {
+            let [p, q, r] = m.triangle(t);
+            (q - p).cross(r - p).norm()
+        };
+        assert!((0..split.triangles.len()).any(|t| area(&split, t) == 0.0));
+        let fixed = without_caps(split.clone());
+        assert_eq!(fixed.edge_faults(), (0, 0));
+        assert_eq!(fixed.triangles.len(), split.triangles.len());
+        assert!((0..fixed.triangles.len()).all(|t| area(&fixed, t) > 1e-3));
+        let volume = |m: &Mesh| check_closed(m).volume;
+        assert!((volume(&fixed) - volume(&whole)).abs() < 1e-12);
+        // Nothing to flip: the same mesh.
+        assert_eq!(without_caps(whole.clone()), whole);
+    }
 
     /// Six walls overlapping at their edges enclose a gap: the closed skin
     /// is the outside alone, one shell; a pocket lined by a cavity stays.

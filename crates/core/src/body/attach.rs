@@ -16,7 +16,7 @@ use super::*;
 use crate::geom::math::Point2;
 use crate::section::mesh::point_in_polygon;
 
-/// Points around the torso's curve for the inside test.
+/// Points around a part's curve for the inside test.
 const AROUND: usize = 64;
 
 /// Whether `p` lies inside `part`: inside its curve at the height of `p`
@@ -80,11 +80,12 @@ pub(super) fn attach_arms(
     warnings: &mut Vec<String>,
 ) {
     let h = seg.height;
-    let step = opts.spacing * h;
+    let (step, reach) = (opts.spacing * h, ATTACH_REACH * h);
     let Some(torso) = parts.iter().find(|p| p.name == PartName::Torso) else {
         return;
     };
     let torso = torso.part.clone();
+    let into = (&torso, seg.frame.up);
     for (k, arm) in [PartName::LeftArm, PartName::RightArm]
         .into_iter()
         .enumerate()
@@ -95,8 +96,6 @@ pub(super) fn attach_arms(
         let Some(p) = parts.iter_mut().find(|p| p.name == arm) else {
             continue;
         };
-        let reach = ATTACH_REACH * h;
-        let into = (&torso, seg.frame.up);
         if let Some((part, fits, by)) = carried_back((&p.part, &p.fits), into, step, reach) {
             (p.part, p.fits) = (part, fits);
             warnings.push(format!(
@@ -122,10 +121,9 @@ pub(super) fn attach_digits(
     h: Real,
     warnings: &mut Vec<String>,
 ) {
-    let mut number = std::collections::HashMap::new();
-    for d in digits.iter_mut() {
-        let k = number.entry(d.hand).or_insert(0);
-        *k += 1;
+    let (step, reach) = (DIGIT_SPACING * h, DIGIT_REACH * h);
+    let numbers = super::digits::digit_numbers(digits);
+    for (d, k) in digits.iter_mut().zip(numbers) {
         let Some(hand) = parts.iter().find(|p| p.name == d.hand) else {
             continue;
         };
@@ -135,7 +133,6 @@ pub(super) fn attach_digits(
         else {
             continue;
         };
-        let (step, reach) = (DIGIT_SPACING * h, DIGIT_REACH * h);
         let into = (&hand.part, along);
         if let Some((part, fits, by)) = carried_back((&d.part, &d.fits), into, step, reach) {
             (d.part, d.fits) = (part, fits);

@@ -72,6 +72,20 @@ pub struct BodyDigit {
     pub fits: Vec<SectionFit>,
 }
 
+/// Each digit's number on its hand, from 1 in the order given (as the
+/// model file names them: `left_arm_digit_1`, …).
+pub(super) fn digit_numbers(digits: &[BodyDigit]) -> Vec<usize> {
+    (0..digits.len())
+        .map(|k| {
+            digits[..k]
+                .iter()
+                .filter(|e| e.hand == digits[k].hand)
+                .count()
+                + 1
+        })
+        .collect()
+}
+
 /// A hand split into its palm and the runs of its digits.
 pub(super) struct HandSplit {
     /// The axis fraction of the palm's last level.

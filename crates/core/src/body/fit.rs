@@ -145,10 +145,12 @@ pub(super) fn fit_to_input(
     let names: Vec<String> = parts
         .iter()
         .map(|p| snake(p.name))
-        .chain(digits.iter().enumerate().map(|(k, d)| {
-            let number = digits[..k].iter().filter(|e| e.hand == d.hand).count() + 1;
-            format!("{}_digit_{number}", snake(d.hand))
-        }))
+        .chain(
+            digits
+                .iter()
+                .zip(super::digits::digit_numbers(digits))
+                .map(|(d, number)| format!("{}_digit_{number}", snake(d.hand))),
+        )
         .collect();
     let owners: Vec<PartName> = parts
         .iter()

@@ -290,10 +290,9 @@ fn tidied(m: Mesh) -> Mesh {
     let mut m = without_slivers(without_specks(m));
     // A flip can leave its neighbour a cap in turn.
     for _ in 0..CAP_PASSES {
-        let before = m.triangles.clone();
-        m = without_caps(m);
-        if m.triangles == before {
-            break;
+        match without_caps(&m) {
+            Some(flipped) => m = flipped,
+            None => break,
         }
     }
     m
@@ -309,16 +308,18 @@ const CAP_PASSES: usize = 3;
 /// short-edge collapse does not reach. Its longest edge is flipped to join
 /// that vertex to the neighbour's opposite one, which splits the
 /// neighbour at it: the same surface, without the cap. A flip that would
-/// make an edge that exists already is skipped. `m` as given when the
-/// result is not closed and consistently oriented.
-fn without_caps(m: Mesh) -> Mesh {
+/// make an edge that exists already is skipped. `None` when nothing was
+/// flipped, or the result is not closed and consistently oriented.
+fn without_caps(m: &Mesh) -> Option<Mesh> {
     let p = |v: u32| m.positions[v as usize];
     let is_cap = |t: &[u32; 3]| -> Option<usize> {
-        let e = |k: usize| p(t[(k + 1) % 3]) - p(t[k]);
-        let k = (0..3).max_by(|&a, &b| e(a).norm().total_cmp(&e(b).norm()))?;
-        let long = e(k).norm();
-        let area2 = e(0).cross(e(1)).norm();
-        (long > 0.0 && area2 < CAP * long * long).then_some(k)
+        let e = |k: usize| (p(t[(k + 1) % 3]) - p(t[k])).norm();
+        let k = (0..3).max_by(|&a, &b| e(a).total_cmp(&e(b)))?;
+        let short = (0..3).map(e).fold(Real::INFINITY, Real::min);
+        let area2 = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).norm();
+        // A needle (an edge of no length) stays a needle when flipped.
+        let long = e(k);
+        (short > CAP * long && area2 < CAP * long * long).then_some(k)
     };
     let mut triangles = m.triangles.clone();
     let mut owner: std::collections::HashMap<(u32, u32), usize> = triangles
@@ -356,18 +357,12 @@ fn without_caps(m: Mesh) -> Mesh {
         }
         flipped = true;
     }
-    if !flipped {
-        return m;
-    }
     let out = Mesh {
         positions: m.positions.clone(),
         normals: None,
         triangles,
     };
-    if out.edge_faults() != (0, 0) {
-        return m;
-    }
-    out
+    (flipped && out.edge_faults() == (0, 0)).then_some(out)
 }
 
 /// A triangle whose doubled area is under this fraction of its longest
@@ -660,8 +655,8 @@ mod tests {
     use super::*;
     use crate::geom::shapes::{cuboid, cylinder};
 
-    /// A tetrahedron whose face (a, b, x) is split at the midpoint c of
-    /// ab into (a, c, x) and (c, b, x), closed by the cap (a, b, c): the
+    /// A tetrahedron whose face (a, b, d) is split at the midpoint c of
+    /// ab into (a, c, d) and (c, b, d), closed by the cap (a, b, c): the
     /// cap is flipped into its neighbour across ab, which splits it at c.
     #[test]
     fn a_cap_is_flipped_away_and_the_surface_kept() {
@@ -702,14 +697,14 @@ mod tests {
             (q - p).cross(r - p).norm()
         };
         assert!((0..split.triangles.len()).any(|t| area(&split, t) == 0.0));
-        let fixed = without_caps(split.clone());
+        let fixed = without_caps(&split).expect("a cap flipped");
         assert_eq!(fixed.edge_faults(), (0, 0));
         assert_eq!(fixed.triangles.len(), split.triangles.len());
         assert!((0..fixed.triangles.len()).all(|t| area(&fixed, t) > 1e-3));
         let volume = |m: &Mesh| check_closed(m).volume;
         assert!((volume(&fixed) - volume(&whole)).abs() < 1e-12);
-        // Nothing to flip: the same mesh.
-        assert_eq!(without_caps(whole.clone()), whole);
+        // Nothing to flip.
+        assert_eq!(without_caps(&whole), None);
     }
 
     /// Six walls overlapping at their edges enclose a gap: the closed skin

@@ -1254,3 +1254,66 @@ fn a_limb_that_started_short_of_its_parent_is_joined_to_it() {
         assert_eq!(check.bad_edges, 0, "{name}: {check:?}");
     }
 }
+
+/// A scan's fingers held apart are digits: its slab image joins fingers
+/// a few point spacings apart, the points past each level do not
+/// (`section/cloud/superlevel.rs`). body_005_scan and body_009_scan in
+/// one frame: each hand split into four digits or more, and the hands'
+/// skin within issue 39's 4 mm RMS of the truth, both ways (the truth
+/// where the scanner saw it, within 5 mm of a point; the hands are the
+/// truth's own, past its wrists).
+#[test]
+fn a_scan_s_fingers_apart_are_digits() {
+    use trigbody_core::internals::measure::regions::{Region, Regions};
+    use trigbody_core::internals::spatial::point_grid::PointGrid;
+    use trigbody_core::{segment, SegmentOptions};
+    let Some(data) = shared_data() else {
+        eprintln!("NOTE: shared data missing: a scan's fingers are not checked");
+        return;
+    };
+    let corpus = data.join("corpus");
+    for (name, units, mm) in [
+        ("body_005", Units::Metres, 1000.0),
+        ("body_009", Units::Millimetres, 1.0),
+    ] {
+        let read = ReadOptions::default();
+        let scan = read_point_cloud(corpus.join(format!("{name}_scan.ply")), &read).unwrap();
+        let truth = read_mesh(corpus.join(format!("{name}.ply")), &read).unwrap();
+        let opts = ReconstructOptions {
+            units,
+            scan_frames: 1,
+            ..ReconstructOptions::default()
+        };
+        let (body, report) = reconstruct(BodyGeometry::Cloud(&scan), &opts).unwrap();
+        for hand in [PartName::LeftArm, PartName::RightArm] {
+            let n = body.digits.iter().filter(|d| d.hand == hand).count();
+            assert!(n >= 4, "{name} {hand}: {n} digits; {:?}", report.warnings);
+        }
+        let regions =
+            Regions::new(&segment(BodyGeometry::Mesh(&truth), &SegmentOptions::default()).unwrap());
+        let skin = outer_skin(&body);
+        let seen = PointGrid::new(&scan.positions, 0.005 / mm * 1000.0 / 4.0);
+        let (to_truth, to_model) = (MeshDistance::new(&truth), MeshDistance::new(&skin));
+        let mut squares = Vec::new();
+        for (from, onto, seen_only) in [(&skin, &to_truth, false), (&truth, &to_model, true)] {
+            for p in sample_surface(from, 200_000) {
+                let seen = !seen_only || seen.nearest(p) * mm <= 5.0;
+                if seen && regions.of(p) == Region::Hands {
+                    let d = onto.closest(p).unwrap().distance * mm;
+                    squares.push(d * d);
+                }
+            }
+        }
+        let rms = (squares.iter().sum::<f64>() / squares.len() as f64).sqrt();
+        println!(
+            "{name}: hands {rms:.2} mm RMS both ways over {} samples",
+            squares.len()
+        );
+        assert!(
+            squares.len() > 1000,
+            "{name}: {} hand samples",
+            squares.len()
+        );
+        assert!(rms <= 4.0, "{name}: hands {rms:.2} mm RMS");
+    }
+}

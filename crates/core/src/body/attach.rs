@@ -10,7 +10,9 @@
 //! torso, and one step further so that the two solids overlap. A digit
 //! whose first section (already repeated back inside the palm as built)
 //! still lies outside its hand, a thumb leaving the palm sideways, is
-//! carried back into the hand the same way.
+//! carried back into the hand the same way; where its own tube leads back
+//! beside the palm (a scan's finger cut obliquely), back and towards the
+//! hand's centre line.
 
 use super::*;
 use crate::geom::math::Point2;
@@ -38,25 +40,71 @@ fn inside_at_level(part: &Part, up: Vec3, p: Point3) -> bool {
     point_in_polygon(flat(p), &poly)
 }
 
-/// `part` (its section fits `fits`) with its first section repeated back
-/// along its axis until its centre lies inside `into` (by
-/// [`inside_at_level`] along `up`; module doc): steps of `step`, at most
-/// `reach` back; with how far it was carried. `None` when its first
-/// section's centre already lies inside, or no step within `reach` gets
-/// there.
-pub(super) fn carried_back(
-    (part, fits): (&Part, &[SectionFit]),
-    (into, up): (&Part, Vec3),
-    step: Real,
-    reach: Real,
-) -> Option<(Part, Vec<SectionFit>, Real)> {
-    let start = part.centre(0.0);
-    if inside_at_level(into, up, start) || !(step > 0.0) {
+/// The centre line's parameter of `part` nearest `p`: the nearest of
+/// [`AROUND`] + 1 samples, refined between its neighbours.
+fn nearest_on_centre(part: &Part, p: Point3) -> Option<Real> {
+    let l = part.length();
+    if !(l > 0.0) {
         return None;
     }
-    let back = (start - part.centre((0.5 * step).min(part.length()))).normalized()?;
+    let at = |k: usize| l * k as Real / AROUND as Real;
+    let near = |s: Real| part.centre(s).distance(p);
+    let k = (0..=AROUND).min_by(|&a, &b| near(at(a)).total_cmp(&near(at(b))))?;
+    // Golden-section search between the neighbouring samples.
+    let (mut a, mut b) = (at(k.saturating_sub(1)), at((k + 1).min(AROUND)));
+    for _ in 0..40 {
+        let (c, d) = (b - 0.618 * (b - a), a + 0.618 * (b - a));
+        if near(c) < near(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    Some(0.5 * (a + b))
+}
+
+/// Whether `p` lies inside `part`'s tube: inside its curve at the centre
+/// line's point nearest `p`, both projected across the centre line there
+/// (a palm's flat, tilted end seen along the hand's direction can be a
+/// sliver that nothing lies inside).
+fn inside_tube(part: &Part, p: Point3) -> bool {
+    let Some(s) = nearest_on_centre(part, p) else {
+        return false;
+    };
+    let (l, h) = (part.length(), 1e-3 * part.length());
+    let Some(t) = (part.centre((s + h).min(l)) - part.centre((s - h).max(0.0))).normalized() else {
+        return false;
+    };
+    let e1 = t.any_perpendicular();
+    let e2 = t.cross(e1);
+    let flat = |q: Point3| Point2::new(q.dot(e1), q.dot(e2));
+    let poly: Vec<Point2> = (0..AROUND)
+        .map(|k| flat(part.point(s, std::f64::consts::TAU * k as Real / AROUND as Real)))
+        .collect();
+    point_in_polygon(flat(p), &poly)
+}
+
+/// `part` (its section fits `fits`) with its first section repeated back
+/// along its axis (or along `towards`, a unit vector, when given) until
+/// its centre lies `inside` the part it joins (module doc): steps of
+/// `step`, at most `reach` back; with how far it was carried. `None` when its first section's centre already lies
+/// inside, or no step within `reach` gets there.
+pub(super) fn carried_back(
+    (part, fits): (&Part, &[SectionFit]),
+    inside: &dyn Fn(Point3) -> bool,
+    (step, reach): (Real, Real),
+    towards: Option<Vec3>,
+) -> Option<(Part, Vec<SectionFit>, Real)> {
+    let start = part.centre(0.0);
+    if inside(start) || !(step > 0.0) {
+        return None;
+    }
+    let back = match towards {
+        Some(d) => d,
+        None => (start - part.centre((0.5 * step).min(part.length()))).normalized()?,
+    };
     let steps = (reach / step).floor() as usize;
-    let k = (1..=steps).find(|&k| inside_at_level(into, up, start + back * (k as Real * step)))?;
+    let k = (1..=steps).find(|&k| inside(start + back * (k as Real * step)))?;
     let shift = back * ((k + 1) as Real * step);
     let mut first = part.sections().first()?.clone();
     first.frame.origin += shift;
@@ -85,7 +133,8 @@ pub(super) fn attach_arms(
         return;
     };
     let torso = torso.part.clone();
-    let into = (&torso, seg.frame.up);
+    let up = seg.frame.up;
+    let inside = |q: Point3| inside_at_level(&torso, up, q);
     for (k, arm) in [PartName::LeftArm, PartName::RightArm]
         .into_iter()
         .enumerate()
@@ -96,7 +145,9 @@ pub(super) fn attach_arms(
         let Some(p) = parts.iter_mut().find(|p| p.name == arm) else {
             continue;
         };
-        if let Some((part, fits, by)) = carried_back((&p.part, &p.fits), into, step, reach) {
+        if let Some((part, fits, by)) =
+            carried_back((&p.part, &p.fits), &inside, (step, reach), None)
+        {
             (p.part, p.fits) = (part, fits);
             warnings.push(format!(
                 "{arm}: its tube started outside the torso; its first section is repeated {:.0} % of the height back along its axis, inside the torso",
@@ -110,9 +161,11 @@ pub(super) fn attach_arms(
 /// to reach the torso ([`attach_arms`]).
 pub const ATTACH_REACH: Real = 0.15;
 
-/// Each digit whose first section's centre lies outside its hand, carried
-/// back into it ([`carried_back`] along the hand's direction at its end,
-/// at most [`DIGIT_REACH`] × `H`, by steps of [`DIGIT_SPACING`] × `H`),
+/// Each digit whose first section's centre lies outside its hand (at its
+/// level along the hand's direction at its end, and across the hand's
+/// centre line nearest it), carried back into it ([`carried_back`]:
+/// along the digit's tube, else straight to the hand's centre line; at
+/// most [`DIGIT_REACH`] × `H`, by steps of [`DIGIT_SPACING`] × `H`),
 /// with a warning: a thumb that leaves the palm sideways can start beside
 /// it.
 pub(super) fn attach_digits(
@@ -133,8 +186,22 @@ pub(super) fn attach_digits(
         else {
             continue;
         };
-        let into = (&hand.part, along);
-        if let Some((part, fits, by)) = carried_back((&d.part, &d.fits), into, step, reach) {
+        let inside =
+            |q: Point3| inside_at_level(&hand.part, along, q) || inside_tube(&hand.part, q);
+        // Back along its own tube, else (a finger cut obliquely, whose
+        // tube leads back beside the palm) halfway between that and
+        // straight to the hand's centre line (so that the copy is not in
+        // its first section's plane).
+        let start = d.part.centre(0.0);
+        let back = start - d.part.centre((0.5 * step).min(d.part.length()));
+        let to_hand = nearest_on_centre(&hand.part, start).and_then(|s| {
+            let towards = (hand.part.centre(s) - start).normalized()?;
+            (towards + back.normalized()?).normalized()
+        });
+        let (digit, span) = ((&d.part, &d.fits[..]), (step, reach));
+        let carried = carried_back(digit, &inside, span, None)
+            .or_else(|| carried_back(digit, &inside, span, Some(to_hand?)));
+        if let Some((part, fits, by)) = carried {
             (d.part, d.fits) = (part, fits);
             warnings.push(format!(
                 "{}: digit {k}: its tube started outside the hand; its first section is repeated {:.1} % of the height back along it, inside the hand",
@@ -222,20 +289,26 @@ mod tests {
             0.04,
             6,
         ));
-        let (carried, fits, moved) =
-            carried_back((&tilted.part, &tilted.fits), (&torso, up), 0.02, 0.3).expect("carried");
+        let (carried, fits, moved) = carried_back(
+            (&tilted.part, &tilted.fits),
+            &|q| inside_at_level(&torso, up, q),
+            (0.02, 0.3),
+            None,
+        )
+        .expect("carried");
         assert_eq!(carried.sections().len(), 7);
         assert_eq!(fits.len(), 7);
         assert!(fits[0].at < fits[1].at);
         let first = carried.centre(0.0);
-        assert!(inside_at_level(&torso, up, first), "{first:?}");
+        let in_torso = |q: Point3| inside_at_level(&torso, up, q);
+        assert!(in_torso(first), "{first:?}");
         assert!(moved <= 0.3 + 0.02 && moved > 0.1, "{moved}");
         // The rest of the arm is as it was.
         let old = tilted.part.centre(tilted.part.length());
         let new = carried.centre(carried.length());
         assert!(old.distance(new) < 1e-9, "{old:?} {new:?}");
         // Hanging straight down, its axis never meets the torso: left alone.
-        assert!(carried_back((&arm.part, &arm.fits), (&torso, up), 0.02, 0.3).is_none());
+        assert!(carried_back((&arm.part, &arm.fits), &in_torso, (0.02, 0.3), None).is_none());
         // An arm starting inside the torso already is left alone.
         let inside = arm_of(tube(
             Point3::new(0.1, 0.0, 1.2),
@@ -243,6 +316,38 @@ mod tests {
             0.04,
             6,
         ));
-        assert!(carried_back((&inside.part, &inside.fits), (&torso, up), 0.02, 0.3).is_none());
+        let inside = (&inside.part, &inside.fits[..]);
+        assert!(carried_back(inside, &in_torso, (0.02, 0.3), None).is_none());
+    }
+
+    /// A digit hanging beside its palm, parallel to it: back along its
+    /// own tube it never enters the palm; it is carried back and towards
+    /// the palm's centre line instead, into the palm.
+    #[test]
+    fn a_digit_beside_its_palm_is_carried_to_it() {
+        let palm = arm_of(tube(
+            Point3::new(0.0, 0.0, 1.0),
+            Point3::new(0.0, 0.0, 0.8),
+            0.04,
+            5,
+        ));
+        let finger = tube(
+            Point3::new(0.07, 0.0, 0.82),
+            Point3::new(0.07, 0.0, 0.74),
+            0.008,
+            4,
+        );
+        let fits = arm_of(finger.clone()).fits;
+        let mut digits = vec![BodyDigit {
+            hand: PartName::LeftArm,
+            part: finger,
+            fits,
+        }];
+        let mut warnings = Vec::new();
+        attach_digits(std::slice::from_ref(&palm), &mut digits, 1.7, &mut warnings);
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        let first = digits[0].part.centre(0.0);
+        assert!(inside_tube(&palm.part, first), "{first:?}");
+        assert!(first.x < 0.04 && first.z > 0.82, "{first:?}");
     }
 }

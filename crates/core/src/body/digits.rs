@@ -1,4 +1,4 @@
-//! Digits: the fingers of a mesh's hand held apart, each a part of its own.
+//! Digits: the fingers of a hand held apart, each a part of its own.
 //!
 //! Past the knuckles a cut across the hand's axis meets each finger held
 //! apart as a loop of its own; a mitten's skin spans the gaps between them
@@ -8,18 +8,24 @@
 //!    [`DIGIT_SPACING`] × `H` along the arm's axis, every loop near the
 //!    axis point of the plane across the hand's direction (wrist to tip:
 //!    the planes are parallel, so that no two cross inside a finger where
-//!    the axis bends; [`Cutter::loops_at`]).
+//!    the axis bends; [`Cutter::loops_at`]). A scan's slab image joins
+//!    fingers a few point spacings apart, so a cloud's levels split each
+//!    slab by the points past it: linked within [`DIGIT_LINK_SPACINGS`]
+//!    point spacings, they fall into one component per finger
+//!    ([`crate::section::cloud::superlevel`]), and each component's share
+//!    of the slab is cut alone.
 //! 2. **Runs.** A loop continues the run whose loop at the level before
 //!    contains its centroid, or whose centroid it contains (the nearest
-//!    such run). A run continued by two or more loops ends there (it
-//!    splits) and each of those loops starts a run of its own, its child.
+//!    such run); a cloud's loop, the run whose last loop's component holds
+//!    it (across a level where a finger's slab had too few points). A run
+//!    continued by two or more loops ends there (it splits) and each of
+//!    those loops starts a run of its own, its child.
 //! 3. **Digits.** A run descended from the wrist's loop that ends without
 //!    splitting, with at least [`MIN_DIGIT_SECTIONS`] loops, none over
 //!    [`MAX_DIGIT_SHARE`] of the hand's largest loop (the palm's) and one
 //!    at least [`MIN_DIGIT_SHARE`] of it. A hand
 //!    with at least [`MIN_DIGITS`] digits is split; otherwise its fingers
-//!    touch (or the input is a scan, whose slabs merge them) and the hand
-//!    stays a mitten, with a warning.
+//!    touch and the hand stays a mitten, with a warning.
 //! 4. **Parts.** The palm's run ends at the level before its last digit
 //!    starts, closed flat (the fingers that leave earlier overlap it).
 //!    Each digit is skinned through its loops every
@@ -27,12 +33,15 @@
 //!    [`DIGIT_OVERLAP`] levels back inside the palm (so that its open start
 //!    lies within the palm's solid and the union has no seam), and closed
 //!    by a dome reaching where its loops vanish (bisected,
-//!    [`crate::body::END_BISECTIONS`] halvings). Its sections lie across the hand's
+//!    [`crate::body::END_BISECTIONS`] halvings; a cloud's, where its
+//!    component's points end). Its sections lie across the hand's
 //!    direction, not each finger's own: spread fingers are cut a little
 //!    obliquely, curled ones end where the cuts leave them.
 
 use super::*;
 use crate::body::cavity::{continues, dome_reaching, vanishing};
+use crate::section::cloud::superlevel::{superlevel_loops, Region, NO_COMPONENT};
+use crate::section::cloud::ScanSectionOptions;
 
 /// Spacing of the levels across the hand, as a fraction of the body's
 /// height: 0.004 (7 mm on 1.73 m, 6-12 sections over a finger).
@@ -96,25 +105,52 @@ pub(super) struct HandSplit {
     normal: Vec3,
     /// Each digit's loops with their axis fractions.
     digits: Vec<Vec<(Real, SectionLoop)>>,
+    /// Each digit's tip height along `normal` where a cloud's points end
+    /// (`None`: found from its loops).
+    tips: Vec<Option<Real>>,
+}
+
+/// A loop of a level across the hand; a cloud's with the height its
+/// points reach along the hand's direction and its component at each
+/// level ([`crate::section::cloud::superlevel::LevelLoop`]).
+type Cut = (SectionLoop, Option<(Real, Vec<u32>)>);
+
+/// Whether `next` continues a run whose last loop is `last` at level
+/// `j`: a cloud's lies in the same component there (past a level where
+/// a finger's slab had too few points, too), a mesh's contains its
+/// centroid or the other way round.
+fn joins((j, last): &(usize, Cut), next: &Cut) -> bool {
+    match (&last.1, &next.1) {
+        (Some((_, a)), Some((_, b))) => a[*j] != NO_COMPONENT && a[*j] == b[*j],
+        _ => continues(&last.0, &next.0),
+    }
 }
 
 /// A run of loops from level to level.
 struct Run {
-    loops: Vec<(usize, SectionLoop)>,
+    loops: Vec<(usize, Cut)>,
     parent: Option<usize>,
     split: bool,
 }
 
 /// The runs of `levels` (see the module doc, step 2); run 0 starts at the
-/// loop of level 0 nearest to `centre`.
-fn runs_of(levels: Vec<Vec<SectionLoop>>, centre: Point3) -> Vec<Run> {
+/// largest loop of level 0 round `centre`, else the nearest to it.
+fn runs_of(levels: Vec<Vec<Cut>>, centre: Point3) -> Vec<Run> {
     let mut runs: Vec<Run> = Vec::new();
     let mut alive: Vec<usize> = Vec::new();
     for (k, loops) in levels.into_iter().enumerate() {
         let mut loops = loops;
         if k == 0 {
-            let near = |l: &SectionLoop| l.centroid.distance(centre);
-            loops.sort_by(|a, b| near(a).total_cmp(&near(b)));
+            // The largest loop round the centre (not a cap's disc inside
+            // it), else the nearest.
+            let key = |l: &Cut| match l.0.contains(centre) {
+                true => (0, -l.0.area),
+                false => (1, l.0.centroid.distance(centre)),
+            };
+            loops.sort_by(|a, b| {
+                let (ka, kb) = (key(a), key(b));
+                ka.0.cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
+            });
         }
         // Each loop's run: the nearest alive run it continues.
         let owner: Vec<Option<usize>> = loops
@@ -123,13 +159,13 @@ fn runs_of(levels: Vec<Vec<SectionLoop>>, centre: Point3) -> Vec<Run> {
                 alive
                     .iter()
                     .copied()
-                    .filter(|&r| continues(&runs[r].loops.last().expect("runs hold loops").1, l))
+                    .filter(|&r| joins(runs[r].loops.last().expect("runs hold loops"), l))
                     .min_by(|&a, &b| {
                         let d = |r: usize| {
                             runs[r]
                                 .loops
                                 .last()
-                                .map_or(Real::MAX, |(_, p)| p.centroid.distance(l.centroid))
+                                .map_or(Real::MAX, |(_, p)| p.0.centroid.distance(l.0.centroid))
                         };
                         d(a).total_cmp(&d(b))
                     })
@@ -182,9 +218,6 @@ pub(super) fn split_hand(
     wrist: Real,
     opts: &ReconstructOptions,
 ) -> Result<HandSplit, String> {
-    if !matches!(cutter.body(), BodyGeometry::Mesh(_)) {
-        return Err("a scan's slabs merge the fingers".into());
-    }
     let seg = cutter.segmentation();
     let axis = seg.part(arm).ok_or("no arm")?;
     let len = axis.length();
@@ -197,26 +230,32 @@ pub(super) fn split_hand(
     let centre = axis.point_and_tangent(wrist).ok_or_else(no_hand)?.0;
     let tip = *axis.points.last().ok_or_else(no_hand)?;
     let normal = (tip - centre).normalized().ok_or_else(no_hand)?;
-    let loops_at = |t: Real| {
-        cutter
-            .loops_at(arm, t, Some(normal), &opts.segment)
-            .map(|(_, l)| l)
-            .unwrap_or_default()
+    let levels: Vec<Vec<Cut>> = match cutter.body() {
+        BodyGeometry::Mesh(_) => {
+            let loops_at = |t: Real| {
+                cutter
+                    .loops_at(arm, t, Some(normal), &opts.segment)
+                    .map(|(_, l)| l.into_iter().map(|l| (l, None)).collect())
+                    .unwrap_or_default()
+            };
+            crate::geom::parallel::parallel_map(&ts, 4, |run| {
+                run.iter().map(|&t| loops_at(t)).collect()
+            })
+        }
+        BodyGeometry::Cloud(c) => cloud_levels(cutter, c, (arm, &ts), (centre, normal), opts)
+            .ok_or("the cloud's point spacing is unknown")?,
     };
-    let levels: Vec<Vec<SectionLoop>> = crate::geom::parallel::parallel_map(&ts, 4, |run| {
-        run.iter().map(|&t| loops_at(t)).collect()
-    });
     let runs = runs_of(levels, centre);
     let hand: Vec<usize> = (0..runs.len()).filter(|&r| from_wrist(&runs, r)).collect();
     let largest = hand
         .iter()
-        .flat_map(|&r| runs[r].loops.iter().map(|(_, l)| l.area))
+        .flat_map(|&r| runs[r].loops.iter().map(|(_, l)| l.0.area))
         .fold(0.0, Real::max);
     let digits: Vec<&Run> = hand
         .iter()
         .map(|&r| &runs[r])
         .filter(|r| {
-            let areas = || r.loops.iter().map(|(_, l)| l.area);
+            let areas = || r.loops.iter().map(|(_, l)| l.0.area);
             !r.split
                 && r.loops.len() >= MIN_DIGIT_SECTIONS
                 && areas().all(|a| a <= MAX_DIGIT_SHARE * largest)
@@ -233,16 +272,93 @@ pub(super) fn split_hand(
     if last_start == 0 {
         return Err("the fingers part at the wrist".into());
     }
+    let tips = digits
+        .iter()
+        .map(|r| r.loops.last().and_then(|(_, l)| l.1.as_ref().map(|c| c.0)))
+        .collect();
     let digits = digits
         .into_iter()
-        .map(|run| run.loops.iter().map(|(k, l)| (ts[*k], l.clone())).collect())
+        .map(|run| {
+            run.loops
+                .iter()
+                .map(|(k, l)| (ts[*k], l.0.clone()))
+                .collect()
+        })
         .collect();
     Ok(HandSplit {
         palm_end: ts[last_start - 1],
         step,
         normal,
         digits,
+        tips,
     })
+}
+
+/// How far apart, in point spacings, two points of a cloud's hand may lie
+/// and still be one finger's ([`superlevel_loops`]' link): across a
+/// scanner's thin stretches of a finger, not across the gap to the next.
+pub const DIGIT_LINK_SPACINGS: Real = 1.75;
+
+/// The fewest points of a cloud's loop across a finger (the slab's
+/// default asks for 12).
+pub const DIGIT_SLAB_POINTS: usize = 5;
+
+/// A cloud's loops at the axis fractions `ts` of `arm`'s hand, across
+/// `normal` (module doc, step 1): the cloud's points near the hand's line
+/// from `centre` along `normal`, each level's slab split by what lies past
+/// it ([`superlevel_loops`]), so that fingers a slab's closing would join
+/// are loops of their own. `None` when the cloud's spacing is unknown.
+fn cloud_levels(
+    cutter: &Cutter<'_>,
+    cloud: &PointCloud,
+    (arm, ts): (PartName, &[Real]),
+    (centre, normal): (Point3, Vec3),
+    opts: &ReconstructOptions,
+) -> Option<Vec<Vec<Cut>>> {
+    let seg = cutter.segmentation();
+    let axis = seg.part(arm)?;
+    // A finger's slab holds few points (its sides facing the next
+    // finger are seldom seen).
+    let so = ScanSectionOptions {
+        min_slab_points: DIGIT_SLAB_POINTS,
+        min_component_points: DIGIT_SLAB_POINTS,
+        ..cutter.slab_options(&opts.segment)?
+    };
+    let (t, g) = (so.half_thickness?, so.cell_size?);
+    let spacing = seg.point_spacing.unwrap_or(g);
+    let offsets: Vec<Real> = ts
+        .iter()
+        .map(|&f| {
+            axis.point_and_tangent(f)
+                .map_or(Real::NAN, |(p, _)| p.dot(normal))
+        })
+        .collect();
+    // The points the levels' cuts see: within the cuts' radius of the
+    // hand's line, from the wrist's slab on.
+    let radius = 3.0 * axis.max_radius().max(seg.height * 0.02);
+    let ids: Vec<u32> = (0..cloud.positions.len() as u32)
+        .filter(|&i| {
+            let d = cloud.positions[i as usize] - centre;
+            let along = d.dot(normal);
+            along >= -t && (d - normal * along).norm() <= radius
+        })
+        .collect();
+    let region = Region {
+        positions: &cloud.positions,
+        ids: &ids,
+        axis: normal,
+    };
+    let levels = superlevel_loops(&region, &offsets, DIGIT_LINK_SPACINGS * spacing, g, &so);
+    Some(
+        levels
+            .into_iter()
+            .map(|l| {
+                l.into_iter()
+                    .map(|l| (l.outline, Some((l.reach, l.component))))
+                    .collect()
+            })
+            .collect(),
+    )
 }
 
 /// The digits of `split` (`arm`'s hand), each reaching back
@@ -259,8 +375,8 @@ pub(super) fn build_digits(
     warnings: &mut Vec<String>,
 ) -> Vec<BodyDigit> {
     let mut out = Vec::with_capacity(split.digits.len());
-    for (k, run) in split.digits.iter().enumerate() {
-        match build_digit(cutter, arm, run, split, palm_last, opts) {
+    for k in 0..split.digits.len() {
+        match build_digit(cutter, arm, k, split, palm_last, opts) {
             Ok(d) => out.push(d),
             Err(e) => warnings.push(format!("{arm}: digit {} left out: {e}", k + 1)),
         }
@@ -285,18 +401,18 @@ fn tip_fraction(
     })
 }
 
-/// A digit's part from its loops `run` (axis fraction, loop) of
-/// `split`, starting inside the palm whose last section lies at
-/// `palm_last` (module doc, step 4).
+/// Digit `digit` of `split` from its loops (axis fraction, loop), starting
+/// inside the palm whose last section lies at `palm_last` (module doc,
+/// step 4).
 fn build_digit(
     cutter: &Cutter<'_>,
     arm: PartName,
-    run: &[(Real, SectionLoop)],
+    digit: usize,
     split: &HandSplit,
     palm_last: Real,
     opts: &ReconstructOptions,
 ) -> Result<BodyDigit, String> {
-    let (step, normal) = (split.step, split.normal);
+    let (run, step, normal) = (&split.digits[digit], split.step, split.normal);
     let len = cutter.segmentation().part(arm).ok_or("no arm")?.length();
     let n = run.len();
     let fo = FitOptions {
@@ -341,8 +457,13 @@ fn build_digit(
     );
     // The dome reaches where the last loop's run vanishes.
     let (last_at, last) = (run[n - 1].0, &run[n - 1].1);
-    let tip_at = tip_fraction(cutter, arm, split, (last_at, last), opts);
-    let tip = last.centroid + normal * ((tip_at - last_at) * len);
+    let tip = match split.tips[digit] {
+        Some(h) => last.centroid + normal * (h - last.centroid.dot(normal)),
+        None => {
+            let tip_at = tip_fraction(cutter, arm, split, (last_at, last), opts);
+            last.centroid + normal * ((tip_at - last_at) * len)
+        }
+    };
     let options = PartOptions {
         start_cap: CapKind::Open,
         end_cap: dome_reaching(curves.last().ok_or("no sections")?, tip),
@@ -397,22 +518,22 @@ mod tests {
         )
     }
 
+    /// The left hand's split and its digits, with default options: four.
+    fn four_digits(cutter: &Cutter<'_>) -> (HandSplit, Vec<BodyDigit>) {
+        let opts = ReconstructOptions::default();
+        let split = split_hand(cutter, PartName::LeftArm, 0.0, &opts).unwrap();
+        assert_eq!(split.digits.len(), 4);
+        let mut warnings = Vec::new();
+        let arm = PartName::LeftArm;
+        let digits = build_digits(cutter, arm, &split, split.palm_end, &opts, &mut warnings);
+        assert_eq!(digits.len(), 4, "{warnings:?}");
+        (split, digits)
+    }
+
     #[test]
     fn fingers_apart_are_digits_that_follow_them() {
         let (mesh, seg) = hand(4, 0.009);
-        let cutter = Cutter::new(BodyGeometry::Mesh(&mesh), &seg);
-        let opts = ReconstructOptions::default();
-        let split = split_hand(&cutter, PartName::LeftArm, 0.0, &opts).unwrap();
-        let mut warnings = Vec::new();
-        let digits = build_digits(
-            &cutter,
-            PartName::LeftArm,
-            &split,
-            split.palm_end,
-            &opts,
-            &mut warnings,
-        );
-        assert_eq!(digits.len(), 4, "{warnings:?}");
+        let (split, digits) = four_digits(&Cutter::new(BodyGeometry::Mesh(&mesh), &seg));
         // The palm ends a level (7 mm) before the fingers' first loops
         // (here inside it, where they start).
         let palm_end = 0.9 - 0.28 * split.palm_end;
@@ -469,18 +590,54 @@ mod tests {
         assert_eq!(split.digits.len(), 4);
     }
 
+    /// Points spread by area over `mesh`, about 1 mm apart.
+    fn scan_of(mesh: &Mesh) -> PointCloud {
+        PointCloud {
+            positions: crate::spatial::distance::sample_surface(mesh, 120_000),
+            normals: None,
+        }
+    }
+
     #[test]
-    fn fingers_together_or_a_scan_leave_a_mitten() {
+    fn fingers_together_leave_a_mitten() {
         // The fingers as one block (as fingers pressed together cut).
         let (mesh, seg) = hand(1, 0.035);
         let cutter = Cutter::new(BodyGeometry::Mesh(&mesh), &seg);
         let why = split_of(&cutter).err().unwrap();
         assert!(why.contains("finger(s) apart"), "{why}");
-        let cloud = PointCloud {
-            positions: mesh.positions.clone(),
-            normals: None,
-        };
+        let cloud = scan_of(&mesh);
         let cutter = Cutter::new(BodyGeometry::Cloud(&cloud), &seg);
-        assert!(split_of(&cutter).is_err());
+        let why = split_of(&cutter).err().unwrap();
+        assert!(why.contains("finger(s) apart"), "{why}");
+    }
+
+    #[test]
+    fn a_scan_s_fingers_apart_are_digits_to_their_tips() {
+        // 4 mm apart: a slab image's closing (two cells of a spacing or
+        // more each way) joins them; the points past each level do not.
+        let (mesh, seg) = hand(4, 0.009);
+        let cloud = scan_of(&mesh);
+        let (_, digits) = four_digits(&Cutter::new(BodyGeometry::Cloud(&cloud), &seg));
+        let mut centres = Vec::new();
+        for d in &digits {
+            let m = crate::surface::tessellate::tessellate_part(
+                &d.part,
+                &TessellationOptions::default(),
+            )
+            .unwrap();
+            let lo = m.positions.iter().map(|p| p.z).fold(Real::MAX, Real::min);
+            assert!((lo - 0.62).abs() < 0.003, "tip at {lo}");
+            let mid: Vec<&Point3> = m
+                .positions
+                .iter()
+                .filter(|p| (p.z - 0.7).abs() < 0.01)
+                .collect();
+            centres.push(mid.iter().map(|p| p.x).sum::<Real>() / mid.len() as Real);
+        }
+        centres.sort_by(Real::total_cmp);
+        for (k, x) in centres.iter().enumerate() {
+            let want = (k as Real - 1.5) * 0.022;
+            assert!((x - want).abs() < 0.002, "{x} {want}");
+        }
     }
 }

@@ -30,6 +30,9 @@
 //!      ends where one finger is cut alone) and against the largest (the
 //!      palm with its thumb) on a scan (whose slab there merges fingers,
 //!      thumb and gaps into blobs): a mitten-like dome to the hand tip.
+//!      Where the fingers are apart (on a scan: apart past each level,
+//!      [`crate::section::cloud::superlevel`]), the palm ends flat where
+//!      they part and each finger is a digit of its own (`digits.rs`).
 //!    * Legs with feet (shoe-like): crotch → ankle along the leg's axis,
 //!      then straight down along `−up` to just above the floor, so the
 //!      sections below the ankle are horizontal outlines of the whole foot

@@ -379,6 +379,28 @@ impl<'a> Cutter<'a> {
         ))
     }
 
+    /// A cloud's slab options: `opts.scan` with the half-thickness and
+    /// cell size the cloud's point spacing gives where unset (the
+    /// segmentation's spacing, else estimated once). `None` for a mesh or
+    /// a cloud whose spacing is unknown.
+    pub(crate) fn slab_options(&self, opts: &SegmentOptions) -> Option<ScanSectionOptions> {
+        let BodyGeometry::Cloud(c) = self.body else {
+            return None;
+        };
+        let spacing = (*self.spacing.get_or_init(|| {
+            self.seg.point_spacing.or_else(|| {
+                CloudSlicer::new(c, self.seg.frame.up)
+                    .ok()
+                    .map(|s| s.spacing())
+            })
+        }))?;
+        Some(ScanSectionOptions {
+            half_thickness: opts.scan.half_thickness.or(Some(spacing)),
+            cell_size: opts.scan.cell_size.or(Some(spacing)),
+            ..opts.scan
+        })
+    }
+
     /// The plane of [`Cutter::cut`], all its loops near the axis point and
     /// the index of the part's.
     #[allow(clippy::type_complexity)]
@@ -686,20 +708,8 @@ impl<'a> Cutter<'a> {
         let Some(axis) = plane.normal.normalized() else {
             return Vec::new();
         };
-        let spacing = *self.spacing.get_or_init(|| {
-            self.seg.point_spacing.or_else(|| {
-                CloudSlicer::new(c, self.seg.frame.up)
-                    .ok()
-                    .map(|s| s.spacing())
-            })
-        });
-        let Some(spacing) = spacing else {
+        let Some(so) = self.slab_options(opts) else {
             return Vec::new();
-        };
-        let so = ScanSectionOptions {
-            half_thickness: opts.scan.half_thickness.or(Some(spacing)),
-            cell_size: opts.scan.cell_size.or(Some(spacing)),
-            ..opts.scan
         };
         let (Some(t), Some(g)) = (so.half_thickness, so.cell_size) else {
             return Vec::new();

@@ -167,21 +167,24 @@ impl<'a> LimbPlans<'a, '_> {
             BodyGeometry::Mesh(_) => EndArea::First,
             BodyGeometry::Cloud(_) => EndArea::Largest,
         };
-        // A mesh's fingers apart are digits of their own ([`split_hand`]):
-        // the palm's run stops where the last one parts, its end flat and
-        // not checked against the input (the digits go on). Fingers that
-        // touch are loops of their own past the knuckles only here and
-        // there: the run takes them inside the palm's outline (a mitten),
-        // with a warning. A scan's slab there is one blob already, and
-        // taking the loops inside the last one changed no corpus scan's
-        // hand for the better.
+        // Fingers apart are digits of their own ([`split_hand`]): the
+        // palm's run stops where the last one parts, its end flat and not
+        // checked against the input (the digits go on). A mesh's fingers
+        // that touch are loops of their own past the knuckles only here
+        // and there: the run takes them inside the palm's outline (a
+        // mitten), with a warning. A scan's slab there is one blob
+        // already, and taking the loops inside the last one changed no
+        // corpus scan's hand for the better.
         let split = split_hand(self.cutter, name, wrist, opts)
             .map_err(|why| warnings.push(format!("{name}: the hand is a mitten ({why})")))
             .ok();
+        // A palm whose digits were found ends where they part: its loops
+        // are not watched for the end (a scan's palm, held against its
+        // largest loop with the thumb, would end where the thumb leaves).
         let hand = RoundedEnd {
             t0: wrist,
             until: split.as_ref().map_or(1.0, |s| s.palm_end),
-            watch_from: wrist,
+            watch_from: split.as_ref().map_or(wrist, |s| s.palm_end),
             step: fine,
             against,
             within_last: against == EndArea::First,

@@ -69,6 +69,7 @@ mod arcs;
 mod contour;
 pub(crate) mod grid;
 mod spacing;
+pub(crate) mod superlevel;
 
 pub use arcs::{bridge_gaps, unseen_side};
 use arcs::{merge_arcs, order_by_angle};

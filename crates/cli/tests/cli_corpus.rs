@@ -313,6 +313,10 @@ fn a_turned_and_moved_mesh_or_scan_is_judged_as_given() {
     same(up, up_probed);
 }
 
+/// The position of `p95_mm` in a corpus row (after `input`, `pose`,
+/// `topology`, `scan`, `status`, `parts` and `rms_mm`).
+const P95_COLUMN: usize = 7;
+
 /// Two corpus rows equal: words and counts exactly, numbers within the
 /// sampler's noise. A model turned and turned back differs from the
 /// other in its last bits; where that moves one skin triangle across the
@@ -320,15 +324,22 @@ fn a_turned_and_moved_mesh_or_scan_is_judged_as_given() {
 /// in their fourth digit (body_033: 1.3819 against 1.3815 mm). A scan's
 /// fit to its points labels each point with its nearest part: a point on
 /// a tie or a junction's bound goes either way under rounding, so a
-/// scan's numbers agree within 0.5 % (body_004_scan: RMS 2.280 against
-/// 2.282 mm, p95 2.951 against 2.960), the bar for a turned scan,
-/// and its shares within a tenth of a percentage point (far 0.95 against
-/// 1.00 %).
+/// scan's numbers agree within 0.5 % (body_004_scan: RMS 1.5556 against
+/// 1.5545 mm), the bar for a turned scan, and its shares within a
+/// tenth of a percentage point (far 0.95 against 1.00 %). Its p95, a
+/// quantile, within 1.5 %: a scan's fingers are digits of few points
+/// each, and a point on a link's bound moves a fingertip (body_004_scan:
+/// 2.2840 against 2.2608 mm).
 fn same_row(a: &[String], b: &[String]) {
     assert_eq!(a.len(), b.len());
     let scan = a.get(3).is_some_and(|s| s == "true");
     let (relative, absolute) = if scan { (5e-3, 1e-3) } else { (2e-3, 1e-4) };
-    for (x, y) in a.iter().zip(b) {
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        let relative = if scan && i == P95_COLUMN {
+            1.5e-2
+        } else {
+            relative
+        };
         match (x.parse::<f64>(), y.parse::<f64>()) {
             (Ok(p), Ok(q)) if x.contains('.') => assert!(
                 (p - q).abs() <= relative * p.abs().max(q.abs()) + absolute,

@@ -34,12 +34,14 @@
 //!    lies within the palm's solid and the union has no seam), and closed
 //!    by a dome reaching where its loops vanish (bisected,
 //!    [`crate::body::END_BISECTIONS`] halvings; a cloud's, where its
-//!    component's points end). Its sections lie across the hand's
+//!    component's points end, from its last loop of at least
+//!    [`DIGIT_END_SHARE`] of its median loop's area). Its sections lie across the hand's
 //!    direction, not each finger's own: spread fingers are cut a little
 //!    obliquely, curled ones end where the cuts leave them.
 
 use super::*;
 use crate::body::cavity::{continues, dome_reaching, vanishing};
+use crate::geom::stats::median;
 use crate::section::cloud::superlevel::{superlevel_loops, Region, NO_COMPONENT};
 use crate::section::cloud::ScanSectionOptions;
 
@@ -279,7 +281,7 @@ pub(super) fn split_hand(
     let digits = digits
         .into_iter()
         .map(|run| {
-            run.loops
+            run.loops[..kept_loops(&run.loops)]
                 .iter()
                 .map(|(k, l)| (ts[*k], l.0.clone()))
                 .collect()
@@ -293,6 +295,29 @@ pub(super) fn split_hand(
         tips,
     })
 }
+
+/// How many of a run's loops a digit is skinned through: a cloud's
+/// without its last loops under [`DIGIT_END_SHARE`] of the run's median
+/// area (a fingertip's slab of a few scattered points gives a small loop
+/// whose harmonics tangle; its dome reaches the tip from the loop before),
+/// keeping [`MIN_DIGIT_SECTIONS`]; a mesh's all (its tip is found from
+/// its last loop).
+fn kept_loops(loops: &[(usize, Cut)]) -> usize {
+    let mut areas: Vec<Real> = loops.iter().map(|(_, l)| l.0.area).collect();
+    let cloud = loops.iter().all(|(_, l)| l.1.is_some());
+    let Some(median) = median(&mut areas).filter(|_| cloud) else {
+        return loops.len();
+    };
+    let mut n = loops.len();
+    while n > MIN_DIGIT_SECTIONS && loops[n - 1].1 .0.area < DIGIT_END_SHARE * median {
+        n -= 1;
+    }
+    n
+}
+
+/// A cloud's digit ends before its loops fall under this share of its
+/// median loop's area ([`kept_loops`]).
+pub const DIGIT_END_SHARE: Real = 0.25;
 
 /// How far apart, in point spacings, two points of a cloud's hand may lie
 /// and still be one finger's ([`superlevel_loops`]' link): across a

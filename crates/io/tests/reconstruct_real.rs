@@ -1292,7 +1292,8 @@ fn a_scan_s_fingers_apart_are_digits() {
         let regions =
             Regions::new(&segment(BodyGeometry::Mesh(&truth), &SegmentOptions::default()).unwrap());
         let skin = outer_skin(&body);
-        let seen = PointGrid::new(&scan.positions, 0.005 / mm * 1000.0 / 4.0);
+        // Cells of a quarter of the 5 mm that counts as seen.
+        let seen = PointGrid::new(&scan.positions, 1.25 / mm);
         let (to_truth, to_model) = (MeshDistance::new(&truth), MeshDistance::new(&skin));
         let mut squares = Vec::new();
         for (from, onto, seen_only) in [(&skin, &to_truth, false), (&truth, &to_model, true)] {

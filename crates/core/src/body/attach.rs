@@ -25,11 +25,14 @@ const AROUND: usize = 64;
 /// along `up` (the part's centre line rising along it), both projected
 /// across `up`.
 fn inside_at_level(part: &Part, up: Vec3, p: Point3) -> bool {
-    let Some(s) = part.s_at_level(up, p.dot(up)) else {
-        return false;
-    };
-    let e1 = up.any_perpendicular();
-    let e2 = up.cross(e1);
+    part.s_at_level(up, p.dot(up))
+        .is_some_and(|s| inside_across(part, s, up, p))
+}
+
+/// Whether `p`, seen along `dir`, lies inside `part`'s curve at `s`.
+fn inside_across(part: &Part, s: Real, dir: Vec3, p: Point3) -> bool {
+    let e1 = dir.any_perpendicular();
+    let e2 = dir.cross(e1);
     let flat = |q: Point3| Point2::new(q.dot(e1), q.dot(e2));
     let poly: Vec<Point2> = (0..AROUND)
         .map(|k| {
@@ -72,16 +75,9 @@ fn inside_tube(part: &Part, p: Point3) -> bool {
         return false;
     };
     let (l, h) = (part.length(), 1e-3 * part.length());
-    let Some(t) = (part.centre((s + h).min(l)) - part.centre((s - h).max(0.0))).normalized() else {
-        return false;
-    };
-    let e1 = t.any_perpendicular();
-    let e2 = t.cross(e1);
-    let flat = |q: Point3| Point2::new(q.dot(e1), q.dot(e2));
-    let poly: Vec<Point2> = (0..AROUND)
-        .map(|k| flat(part.point(s, std::f64::consts::TAU * k as Real / AROUND as Real)))
-        .collect();
-    point_in_polygon(flat(p), &poly)
+    (part.centre((s + h).min(l)) - part.centre((s - h).max(0.0)))
+        .normalized()
+        .is_some_and(|t| inside_across(part, s, t, p))
 }
 
 /// `part` (its section fits `fits`) with its first section repeated back

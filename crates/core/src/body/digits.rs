@@ -543,6 +543,12 @@ mod tests {
         )
     }
 
+    /// A digit's surface at the default tessellation.
+    fn tessellated(d: &BodyDigit) -> Mesh {
+        crate::surface::tessellate::tessellate_part(&d.part, &TessellationOptions::default())
+            .unwrap()
+    }
+
     /// The left hand's split and its digits, with default options: four.
     fn four_digits(cutter: &Cutter<'_>) -> (HandSplit, Vec<BodyDigit>) {
         let opts = ReconstructOptions::default();
@@ -565,11 +571,7 @@ mod tests {
         assert!(palm_end > 0.775 && palm_end < 0.79, "{palm_end}");
         let mut centres = Vec::new();
         for d in &digits {
-            let m = crate::surface::tessellate::tessellate_part(
-                &d.part,
-                &TessellationOptions::default(),
-            )
-            .unwrap();
+            let m = tessellated(d);
             let c = m
                 .positions
                 .iter()
@@ -645,11 +647,7 @@ mod tests {
         let (_, digits) = four_digits(&Cutter::new(BodyGeometry::Cloud(&cloud), &seg));
         let mut centres = Vec::new();
         for d in &digits {
-            let m = crate::surface::tessellate::tessellate_part(
-                &d.part,
-                &TessellationOptions::default(),
-            )
-            .unwrap();
+            let m = tessellated(d);
             let lo = m.positions.iter().map(|p| p.z).fold(Real::MAX, Real::min);
             assert!((lo - 0.62).abs() < 0.003, "tip at {lo}");
             let mid: Vec<&Point3> = m

@@ -57,6 +57,14 @@ pub struct GlobalFitOptions {
     /// always takes part (the robust cutoff never drops it). Default
     /// 0.003.
     pub min_cutoff: Real,
+    /// A section is added where a fitted part's points still lie farther
+    /// than this (the 90th percentile over an interval between two
+    /// sections), as a fraction of the height, and the part fitted again
+    /// ([`SurfaceFitOptions::split`]); 0 adds none. Default 0.0015.
+    pub split: Real,
+    /// No section is added between two closer than twice this, as a
+    /// fraction of the height. Default 0.005.
+    pub min_gap: Real,
 }
 
 impl Default for GlobalFitOptions {
@@ -68,6 +76,8 @@ impl Default for GlobalFitOptions {
             points_per_section: 400,
             junction: 0.003,
             min_cutoff: 0.003,
+            split: 0.0015,
+            min_gap: 0.005,
         }
     }
 }
@@ -168,6 +178,8 @@ pub(super) fn fit_to_input(
     let surface = SurfaceFitOptions {
         min_cutoff: opts.min_cutoff * height,
         coverage_reach: LABEL_REACH * height,
+        split: opts.split * height,
+        min_gap: opts.min_gap * height,
         ..opts.surface
     };
     let positions: Vec<Point3> = points.iter().map(|(p, _)| *p).collect();

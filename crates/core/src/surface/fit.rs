@@ -19,6 +19,9 @@ use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Aabb, Mesh};
 use crate::spatial::distance::MeshDistance;
 use crate::spatial::point_grid::PointGrid;
+use split::split_where_far;
+
+mod split;
 
 /// Options of [`fit_part`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,6 +60,16 @@ pub struct SurfaceFitOptions {
     /// (it bridges a hole), in the points' units. Default 0: none is
     /// held (the caller sets a scale).
     pub coverage_reach: Real,
+    /// After the fit, a section is added halfway along every interval
+    /// whose points still lie farther than this from the surface (their
+    /// 90th percentile), and the part is fitted again: where the sections
+    /// leave the fit too little to move (a gap where a section was
+    /// dropped, a shoulder's quick change). In the points' units; 0 (the
+    /// default) adds none.
+    pub split: Real,
+    /// No section is added between two closer than twice this (their
+    /// centres' distance), in the points' units. Default 0.
+    pub min_gap: Real,
 }
 
 impl Default for SurfaceFitOptions {
@@ -72,6 +85,8 @@ impl Default for SurfaceFitOptions {
             min_cutoff: 0.0,
             coverage: 1.0,
             coverage_reach: 0.0,
+            split: 0.0,
+            min_gap: 0.0,
         }
     }
 }
@@ -776,6 +791,37 @@ pub fn fit_part(
 /// [`project`] on [`PartGrid::for_part`] finds them: labelling did) and
 /// the input its surface is held to.
 pub(crate) fn fit_part_from(
+    part: &Part,
+    points: &[Point3],
+    first_feet: Vec<Option<Foot>>,
+    weights: &[Real],
+    cover: &Coverage<'_>,
+    opts: &SurfaceFitOptions,
+) -> (Part, SurfaceFitStats) {
+    let (fitted, stats) = fit_rounds(part, points, first_feet, weights, cover, opts);
+    if !(opts.split > 0.0) {
+        return (fitted, stats);
+    }
+    let fitted_feet = feet(&fitted, points);
+    let Some(split) = split_where_far(&fitted, &fitted_feet, weights, opts) else {
+        return (fitted, stats);
+    };
+    let split_feet = feet(&split, points);
+    let (refitted, again) = fit_rounds(&split, points, split_feet, weights, cover, opts);
+    let (moved_rms, moved_max) = displacement(part, &refitted);
+    let stats = SurfaceFitStats {
+        used: again.used,
+        rms_after: again.rms_after,
+        moved_rms,
+        moved_max,
+        rounds: stats.rounds + again.rounds,
+        ..stats
+    };
+    (refitted, stats)
+}
+
+/// The rounds of projection and solve of [`fit_part_from`].
+fn fit_rounds(
     part: &Part,
     points: &[Point3],
     first_feet: Vec<Option<Foot>>,

@@ -1,3 +1,4 @@
+use super::split::halfway_section;
 use super::*;
 use crate::curve::trig::Frame;
 use crate::surface::part::PartOptions;
@@ -332,4 +333,72 @@ fn skin_over_a_hole_is_held_to_the_nearest_points() {
         "the points alone moved the bulge: {without}"
     );
     assert!(with < 0.3 * without, "held: {with}, alone: {without}");
+}
+
+/// The section added halfway along an interval is the surface's own curve
+/// there: on a part of parallel planes, exactly.
+#[test]
+fn a_halfway_section_is_the_surface_s_curve() {
+    let part = bulged_cylinder(0.13);
+    let (a, b) = (&part.curves()[3], &part.curves()[4]);
+    let mid = part.segments()[3].patch.curve_at(0.5);
+    let c = halfway_section(&mid, a, b).unwrap();
+    assert!((c.frame.origin.y - 0.175).abs() < 1e-12, "{:?}", c.frame);
+    for j in 0..40 {
+        let v = 0.157 * j as Real;
+        assert!(c.point(v).distance(mid.point(v)) < 1e-12, "v {v}");
+    }
+}
+
+/// A bump between two sections is out of the fit's reach until a section
+/// is added there: with `split`, one is, and the points come near.
+#[test]
+fn a_bump_between_sections_gets_a_section() {
+    let ring = |y: Real, r: Real| {
+        TrigCurve::circle(
+            Frame::from_normal(Point3::new(0.0, y, 0.0), Vec3::Y, Vec3::X).unwrap(),
+            r,
+            2,
+        )
+    };
+    let options = PartOptions::default();
+    let truth = Part::new(
+        (0..17)
+            .map(|k| ring(0.025 * k as Real, if k == 9 { 0.125 } else { 0.1 }))
+            .collect(),
+        &options,
+    )
+    .unwrap();
+    let start = Part::new(
+        (0..9).map(|k| ring(0.05 * k as Real, 0.1)).collect(),
+        &options,
+    )
+    .unwrap();
+    // A little noise, so that the robust scale is not zero, and weights
+    // that leave every point a plain least-squares one.
+    let points: Vec<Point3> = samples(&truth, 161, 32)
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| p + Vec3::new(p.x, 0.0, p.z) * (0.01 * (i as Real * 2.399).sin()))
+        .collect();
+    let weights = vec![1.0; points.len()];
+    let fitted = |split: Real| {
+        let opts = SurfaceFitOptions {
+            min_cutoff: 0.05,
+            huber: 100.0,
+            cutoff: 100.0,
+            split,
+            min_gap: 0.01,
+            ..SurfaceFitOptions::default()
+        };
+        fit_part(&start, &points, &weights, &opts)
+    };
+    let (kept, without) = fitted(0.0);
+    let (split, with) = fitted(0.004);
+    assert_eq!(kept.sections().len(), 9);
+    assert!(split.sections().len() > 9, "{}", split.sections().len());
+    assert!(
+        with.rms_after < 0.5 * without.rms_after,
+        "with {with:?}, without {without:?}"
+    );
 }

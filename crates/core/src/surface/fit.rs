@@ -798,29 +798,29 @@ pub(crate) fn fit_part_from(
     cover: &Coverage<'_>,
     opts: &SurfaceFitOptions,
 ) -> (Part, SurfaceFitStats) {
-    let (fitted, stats) = fit_rounds(part, points, first_feet, weights, cover, opts);
-    if !(opts.split > 0.0) {
-        return (fitted, stats);
+    let (mut fitted, mut stats, last_feet) =
+        fit_rounds(part, points, first_feet, weights, cover, opts);
+    if opts.split > 0.0 {
+        let last_feet = last_feet.unwrap_or_else(|| feet(&fitted, points));
+        if let Some(split) = split_where_far(&fitted, &last_feet, weights, opts) {
+            let split_feet = feet(&split, points);
+            let again;
+            (fitted, again, _) = fit_rounds(&split, points, split_feet, weights, cover, opts);
+            stats = SurfaceFitStats {
+                used: again.used,
+                rms_after: again.rms_after,
+                rounds: stats.rounds + again.rounds,
+                ..stats
+            };
+        }
     }
-    let fitted_feet = feet(&fitted, points);
-    let Some(split) = split_where_far(&fitted, &fitted_feet, weights, opts) else {
-        return (fitted, stats);
-    };
-    let split_feet = feet(&split, points);
-    let (refitted, again) = fit_rounds(&split, points, split_feet, weights, cover, opts);
-    let (moved_rms, moved_max) = displacement(part, &refitted);
-    let stats = SurfaceFitStats {
-        used: again.used,
-        rms_after: again.rms_after,
-        moved_rms,
-        moved_max,
-        rounds: stats.rounds + again.rounds,
-        ..stats
-    };
-    (refitted, stats)
+    (stats.moved_rms, stats.moved_max) = displacement(part, &fitted);
+    (fitted, stats)
 }
 
-/// The rounds of projection and solve of [`fit_part_from`].
+/// The rounds of projection and solve of [`fit_part_from`]: the part,
+/// what they did (not how far it moved) and the points' feet on the part
+/// where the last round found them.
 fn fit_rounds(
     part: &Part,
     points: &[Point3],
@@ -828,7 +828,8 @@ fn fit_rounds(
     weights: &[Real],
     cover: &Coverage<'_>,
     opts: &SurfaceFitOptions,
-) -> (Part, SurfaceFitStats) {
+) -> (Part, SurfaceFitStats, Option<Vec<Option<Foot>>>) {
+    let mut last_feet = None;
     let mut first_feet = Some(first_feet);
     let mut stats = SurfaceFitStats {
         points: points.len(),
@@ -871,6 +872,7 @@ fn fit_rounds(
         // rounds there are.
         if objective > last_objective * (1.0 + WORSE) {
             let Some((from, delta, share)) = step.take() else {
+                last_feet = Some(feet);
                 break;
             };
             let shorter = if share > MIN_STEP {
@@ -897,6 +899,7 @@ fn fit_rounds(
         (stats.rms_after, last_objective) = (rms, objective);
         stats.used = inside.iter().filter(|&&b| b).count();
         if round == opts.rounds {
+            last_feet = Some(feet);
             break;
         }
         let round_data = Round {
@@ -909,17 +912,18 @@ fn fit_rounds(
             huber: opts.huber * sigma,
         };
         let Some(delta) = round_data.solve(&current, opts) else {
+            last_feet = Some(feet);
             break;
         };
         let Some((next, taken)) = scaled_step(&current, &delta, 1.0, opts) else {
+            last_feet = Some(feet);
             break;
         };
         step = Some((std::mem::replace(&mut current, next), delta, taken));
         stats.rounds += 1;
         round += 1;
     }
-    (stats.moved_rms, stats.moved_max) = displacement(part, &current);
-    (current, stats)
+    (current, stats, last_feet)
 }
 
 /// One round's data: the points' feet, which take part, their weights and

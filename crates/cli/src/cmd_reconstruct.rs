@@ -238,11 +238,17 @@ fn table(r: &Report) -> String {
         by.head, by.hands, by.feet, by.rest
     ));
     if !r.fit.is_empty() {
-        t.push_str("fitted to the input: points used, residual rms before -> after, curves moved rms / max\n");
+        t.push_str("fitted to the input: points used, residual rms before -> after, curves moved rms / max, sections added\n");
         for f in &r.fit {
             t.push_str(&format!(
-                "  {:<18} {:>6}  {:>5.2} -> {:>5.2} mm  {:>5.2} / {:>5.2} mm\n",
-                f.name, f.used, f.rms_before_mm, f.rms_after_mm, f.moved_rms_mm, f.moved_max_mm
+                "  {:<18} {:>6}  {:>5.2} -> {:>5.2} mm  {:>5.2} / {:>5.2} mm  {:>3}\n",
+                f.name,
+                f.used,
+                f.rms_before_mm,
+                f.rms_after_mm,
+                f.moved_rms_mm,
+                f.moved_max_mm,
+                f.sections_added
             ));
         }
     }

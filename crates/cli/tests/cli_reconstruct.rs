@@ -223,11 +223,9 @@ fn a_scan_is_fitted_to_its_points_and_the_report_says_how() {
     let (text, fitted) = run("auto", "scan.ply");
     let fits = fitted["fit"].as_array().unwrap();
     assert!(fits.len() >= 6, "{fitted}");
-    // The points' residual over all parts falls. A part's may rise a
-    // little where the skin held to the points trades it: the left arm of
-    // this 60 000-point scan, whose hand's fingers are digits, 1.28 ->
-    // 1.42 mm (its right arm 1.23 -> 1.13; the palm's fit beside its
-    // digits is open).
+    // The points' residual falls on every part (the left arm of this
+    // 60 000-point scan, whose hand's fingers are digits, 1.28 -> 1.07
+    // mm with sections added where the points lay far; 1.42 without).
     let (mut total_before, mut total_after) = (0.0, 0.0);
     for f in fits {
         let (before, after) = (
@@ -237,7 +235,7 @@ fn a_scan_is_fitted_to_its_points_and_the_report_says_how() {
         let used = f["used"].as_u64().unwrap() as f64;
         total_before += used * before * before;
         total_after += used * after * after;
-        assert!(after <= before * 1.15 && after > 0.0, "{f}");
+        assert!(after < before && after > 0.0, "{f}");
         // No part runs away; the torso's side may move out over a
         // shoulder the arm's part does not reach (the skin held to the
         // points: 33 mm on this scan).
@@ -248,6 +246,18 @@ fn a_scan_is_fitted_to_its_points_and_the_report_says_how() {
     }
     assert!(total_after < total_before, "{fitted}");
     assert!(text.contains("fitted to the input"), "{text}");
+    // Sections the fit added are the model's: the parts' counts hold them.
+    let added: u64 = fits
+        .iter()
+        .map(|f| f["sections_added"].as_u64().unwrap())
+        .sum();
+    let sections: u64 = fitted["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["sections"].as_u64().unwrap())
+        .sum();
+    assert!(sections > added, "{added} added of {sections}");
     let (_, plain) = run("none", "scan.ply");
     assert!(plain["fit"].as_array().unwrap().is_empty());
     assert!(

@@ -266,8 +266,8 @@ pub fn report_part_names(report: &Report) -> Vec<String> {
 /// worst E_a/E_M, sections meeting the tolerances, the ellipse baseline's
 /// worst E_a/E_M, design parameters), `fit` (per part fitted to the input:
 /// its points and those used, the residual RMS before and after in mm, how
-/// far its curves moved, RMS and largest, and the rounds taken;
-/// [`Report::fit`]), `parts_found`, `joints` (each joint
+/// far its curves moved, RMS and largest, the rounds taken and the
+/// sections added; [`Report::fit`]), `parts_found`, `joints` (each joint
 /// centre's name and position in the input's coordinates) and `warnings`.
 pub fn report_json(report: &Report) -> Value {
     json!({
@@ -313,6 +313,7 @@ pub fn report_json(report: &Report) -> Value {
             "moved_rms_mm": f.moved_rms_mm,
             "moved_max_mm": f.moved_max_mm,
             "rounds": f.rounds,
+            "sections_added": f.sections_added,
         })).collect::<Vec<_>>(),
         "parts_found": report.parts_found.iter().map(|p| part_file_name(*p)).collect::<Vec<_>>(),
         "joints": report.joints.iter().map(|(n, p)| (n.as_str().to_string(), json!(p.to_array()))).collect::<serde_json::Map<_, _>>(),

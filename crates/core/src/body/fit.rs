@@ -102,6 +102,9 @@ pub struct PartFit {
     pub moved_max_mm: Real,
     /// Rounds taken.
     pub rounds: usize,
+    /// Sections added where the points still lay far after the rounds
+    /// (and the part fitted again).
+    pub sections_added: usize,
 }
 
 impl PartFit {
@@ -115,6 +118,7 @@ impl PartFit {
             moved_rms_mm: s.moved_rms * mm,
             moved_max_mm: s.moved_max * mm,
             rounds: s.rounds,
+            sections_added: s.added,
         }
     }
 }

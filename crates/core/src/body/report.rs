@@ -16,6 +16,8 @@ pub struct PartReport {
     pub cavity: bool,
     /// True for a digit ([`BodyDigit`]) of the arm `name`'s hand.
     pub digit: bool,
+    /// The part's sections in the model (the fit's added ones too; the
+    /// orders and E_a/E_M are those of the sections cut from the input).
     pub sections: usize,
     /// Orders used: minimum, median, maximum.
     pub orders: (usize, usize, usize),
@@ -215,7 +217,7 @@ pub fn part_reports(body: &Body) -> Vec<PartReport> {
                 name,
                 cavity,
                 digit,
-                sections: fits.len(),
+                sections: part.sections().len(),
                 orders: (
                     orders.first().copied().unwrap_or(0),
                     med,

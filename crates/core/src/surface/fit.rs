@@ -107,6 +107,9 @@ pub struct SurfaceFitStats {
     pub moved_max: Real,
     /// Rounds solved.
     pub rounds: usize,
+    /// Sections added where the points still lay far
+    /// ([`SurfaceFitOptions::split`]).
+    pub added: usize,
 }
 
 /// A part's surface sampled on a grid of `(s, v)`, to find a point's foot.
@@ -810,6 +813,7 @@ pub(crate) fn fit_part_from(
                 used: again.used,
                 rms_after: again.rms_after,
                 rounds: stats.rounds + again.rounds,
+                added: fitted.sections().len() - part.sections().len(),
                 ..stats
             };
         }

@@ -552,6 +552,8 @@ struct Band {
     n: usize,
     bw: usize,
     a: Vec<Real>,
+    /// A consecutive row's values ([`Band::add_outer`]).
+    dense: Vec<Real>,
 }
 
 impl Band {
@@ -560,6 +562,7 @@ impl Band {
             n,
             bw,
             a: vec![0.0; n * (bw + 1)],
+            dense: Vec::new(),
         }
     }
 
@@ -574,11 +577,31 @@ impl Band {
         self.a[i * (self.bw + 1) + self.bw + j - i]
     }
 
-    /// Adds `w · r rᵀ` for a sparse row `r` (indices ascending).
+    /// Adds `w · r rᵀ` for a sparse row `r` (indices ascending). A row of
+    /// consecutive indices (a point's: the sections around its foot, each
+    /// with its coefficients in order) is added a stored row at a time.
     fn add_outer(&mut self, row: &[(usize, Real)], w: Real) {
-        for (p, &(i, ri)) in row.iter().enumerate() {
-            for &(j, rj) in &row[..=p] {
-                *self.at(i, j) += w * ri * rj;
+        let Some(&(i0, _)) = row.first() else {
+            return;
+        };
+        let consecutive = row.iter().enumerate().all(|(k, &(i, _))| i == i0 + k);
+        if !consecutive {
+            for (p, &(i, ri)) in row.iter().enumerate() {
+                for &(j, rj) in &row[..=p] {
+                    *self.at(i, j) += w * ri * rj;
+                }
+            }
+            return;
+        }
+        debug_assert!(row.len() <= self.bw + 1 && i0 + row.len() <= self.n);
+        self.dense.clear();
+        self.dense.extend(row.iter().map(|&(_, r)| r));
+        for (p, &ri) in self.dense.iter().enumerate() {
+            // Entries (i, i0) ..= (i, i) of the band, stored in order.
+            let start = (i0 + p) * (self.bw + 1) + self.bw - p;
+            let wi = w * ri;
+            for (a, &rj) in self.a[start..=start + p].iter_mut().zip(&self.dense[..=p]) {
+                *a += wi * rj;
             }
         }
     }

@@ -19,8 +19,10 @@ use crate::geom::math::{Point3, Real, Vec3};
 use crate::geom::mesh::{Aabb, Mesh};
 use crate::spatial::distance::MeshDistance;
 use crate::spatial::point_grid::PointGrid;
+use band::Band;
 use split::split_where_far;
 
+mod band;
 mod split;
 
 /// Options of [`fit_part`].
@@ -546,106 +548,6 @@ fn basis(v: Real, order: usize, x: &mut Vec<Real>, y: &mut Vec<Real>) {
     }
 }
 
-/// A symmetric positive definite band matrix, its lower band stored by
-/// rows (`bw` below the diagonal), factored in place by Cholesky.
-struct Band {
-    n: usize,
-    bw: usize,
-    a: Vec<Real>,
-    /// A consecutive row's values ([`Band::add_outer`]).
-    dense: Vec<Real>,
-}
-
-impl Band {
-    fn new(n: usize, bw: usize) -> Band {
-        Band {
-            n,
-            bw,
-            a: vec![0.0; n * (bw + 1)],
-            dense: Vec::new(),
-        }
-    }
-
-    #[inline]
-    fn at(&mut self, i: usize, j: usize) -> &mut Real {
-        debug_assert!(j <= i && i - j <= self.bw);
-        &mut self.a[i * (self.bw + 1) + self.bw + j - i]
-    }
-
-    #[inline]
-    fn get(&self, i: usize, j: usize) -> Real {
-        self.a[i * (self.bw + 1) + self.bw + j - i]
-    }
-
-    /// Adds `w · r rᵀ` for a sparse row `r` (indices ascending). A row of
-    /// consecutive indices (a point's: the sections around its foot, each
-    /// with its coefficients in order) is added a stored row at a time.
-    fn add_outer(&mut self, row: &[(usize, Real)], w: Real) {
-        let Some(&(i0, _)) = row.first() else {
-            return;
-        };
-        let consecutive = row.iter().enumerate().all(|(k, &(i, _))| i == i0 + k);
-        if !consecutive {
-            for (p, &(i, ri)) in row.iter().enumerate() {
-                for &(j, rj) in &row[..=p] {
-                    *self.at(i, j) += w * ri * rj;
-                }
-            }
-            return;
-        }
-        debug_assert!(row.len() <= self.bw + 1 && i0 + row.len() <= self.n);
-        self.dense.clear();
-        self.dense.extend(row.iter().map(|&(_, r)| r));
-        for (p, &ri) in self.dense.iter().enumerate() {
-            // Entries (i, i0) ..= (i, i) of the band, stored in order.
-            let start = (i0 + p) * (self.bw + 1) + self.bw - p;
-            let wi = w * ri;
-            for (a, &rj) in self.a[start..=start + p].iter_mut().zip(&self.dense[..=p]) {
-                *a += wi * rj;
-            }
-        }
-    }
-
-    /// Solves `A x = b` (`A` factored in place); `None` unless positive definite.
-    fn solve(mut self, mut b: Vec<Real>) -> Option<Vec<Real>> {
-        let (n, bw) = (self.n, self.bw);
-        for j in 0..n {
-            let lo = j.saturating_sub(bw);
-            let mut d = self.get(j, j);
-            for k in lo..j {
-                d -= self.get(j, k).powi(2);
-            }
-            if !(d > 0.0) {
-                return None;
-            }
-            let d = d.sqrt();
-            *self.at(j, j) = d;
-            for i in j + 1..(j + bw + 1).min(n) {
-                let mut x = self.get(i, j);
-                for k in i.saturating_sub(bw)..j {
-                    x -= self.get(i, k) * self.get(j, k);
-                }
-                *self.at(i, j) = x / d;
-            }
-        }
-        for i in 0..n {
-            let mut x = b[i];
-            for k in i.saturating_sub(bw)..i {
-                x -= self.get(i, k) * b[k];
-            }
-            b[i] = x / self.get(i, i);
-        }
-        for i in (0..n).rev() {
-            let mut x = b[i];
-            for k in i + 1..(i + bw + 1).min(n) {
-                x -= self.get(k, i) * b[k];
-            }
-            b[i] = x / self.get(i, i);
-        }
-        Some(b)
-    }
-}
-
 /// The unknowns: each curve's first `len[m]` coefficients of `a`, then
 /// as many of `b`, curve after curve (harmonics up to the fit's order; a
 /// curve's higher ones are kept as they are).
@@ -824,25 +726,38 @@ pub(crate) fn fit_part_from(
     cover: &Coverage<'_>,
     opts: &SurfaceFitOptions,
 ) -> (Part, SurfaceFitStats) {
-    let (mut fitted, mut stats, last_feet) =
-        fit_rounds(part, points, first_feet, weights, cover, opts);
+    let data = Fitting {
+        points,
+        weights,
+        cover,
+        opts,
+    };
+    let (mut fitted, mut stats, last_feet) = fit_rounds(part, first_feet, &data);
     if opts.split > 0.0 {
         let last_feet = last_feet.unwrap_or_else(|| feet(&fitted, points));
         if let Some(split) = split_where_far(&fitted, &last_feet, weights, opts) {
-            let split_feet = feet(&split, points);
-            let again;
-            (fitted, again, _) = fit_rounds(&split, points, split_feet, weights, cover, opts);
+            let (refitted, again, _) = fit_rounds(&split, feet(&split, points), &data);
             stats = SurfaceFitStats {
                 used: again.used,
                 rms_after: again.rms_after,
                 rounds: stats.rounds + again.rounds,
-                added: fitted.sections().len() - part.sections().len(),
+                added: refitted.sections().len() - part.sections().len(),
                 ..stats
             };
+            fitted = refitted;
         }
     }
     (stats.moved_rms, stats.moved_max) = displacement(part, &fitted);
     (fitted, stats)
+}
+
+/// What a part is fitted to: the points and their weights, the input its
+/// skin is held to, and the options.
+struct Fitting<'a> {
+    points: &'a [Point3],
+    weights: &'a [Real],
+    cover: &'a Coverage<'a>,
+    opts: &'a SurfaceFitOptions,
 }
 
 /// The rounds of projection and solve of [`fit_part_from`]: the part,
@@ -850,12 +765,15 @@ pub(crate) fn fit_part_from(
 /// where the last round found them.
 fn fit_rounds(
     part: &Part,
-    points: &[Point3],
     first_feet: Vec<Option<Foot>>,
-    weights: &[Real],
-    cover: &Coverage<'_>,
-    opts: &SurfaceFitOptions,
+    data: &Fitting<'_>,
 ) -> (Part, SurfaceFitStats, Option<Vec<Option<Foot>>>) {
+    let Fitting {
+        points,
+        weights,
+        cover,
+        opts,
+    } = *data;
     let mut last_feet = None;
     let mut first_feet = Some(first_feet);
     let mut stats = SurfaceFitStats {

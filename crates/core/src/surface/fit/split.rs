@@ -4,7 +4,7 @@
 
 use super::{Foot, SurfaceFitOptions};
 use crate::curve::trig::{standard_to_paper_b, Frame, SpaceCurve, TrigCurve};
-use crate::geom::math::{Point3, Real, Vec3};
+use crate::geom::math::{Real, Vec3};
 use crate::surface::part::Part;
 
 /// Points an interval needs before its residual may add a section.
@@ -34,10 +34,6 @@ pub(super) fn split_where_far(
             residuals[part.locate(f.s).0].push(f.signed.abs());
         }
     }
-    let centres: Vec<Point3> = curves
-        .iter()
-        .map(|c| c.world_series().mean_point())
-        .collect();
     let mut sections: Vec<TrigCurve> = Vec::with_capacity(2 * curves.len());
     let mut added = 0;
     for (i, section) in part.sections().iter().enumerate() {
@@ -45,7 +41,8 @@ pub(super) fn split_where_far(
         let Some(r) = residuals.get_mut(i) else {
             continue;
         };
-        if r.len() < SPLIT_POINTS || centres[i].distance(centres[i + 1]) <= 2.0 * opts.min_gap {
+        // A segment's length is its two centres' distance (the knots).
+        if r.len() < SPLIT_POINTS || segments[i].length() <= 2.0 * opts.min_gap {
             continue;
         }
         let k = (0.9 * (r.len() - 1) as Real).round() as usize;

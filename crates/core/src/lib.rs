@@ -129,7 +129,7 @@ pub mod internals {
     /// The `surface` layer.
     pub mod surface {
         pub use crate::surface::{
-            cap, closed_skin, local_skin, part, patch, pieces, skin, tessellate, transition,
+            cap, closed_skin, fit, local_skin, part, patch, pieces, skin, tessellate, transition,
         };
     }
     /// The `segment` layer.

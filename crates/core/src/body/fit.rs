@@ -24,10 +24,9 @@ use rayon::prelude::*;
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FitMode {
     /// Scans only: their sections are slabs of noisy points in an
-    /// occupancy image, and the fit takes them to the points (the corpus
-    /// scans' median distance to the truth 3.19 -> 2.52 mm). A mesh's
-    /// sections are exact cuts already: there the fit gains 0.02 mm
-    /// (median over the corpus meshes) for three times the time.
+    /// occupancy image, and the fit takes them to the points. A mesh's
+    /// sections are exact cuts already: there the fit gains little for
+    /// several times the time (docs/global-fit.md).
     #[default]
     Scans,
     /// Meshes and scans.

@@ -138,12 +138,21 @@ impl PartGrid {
         let columns = around + 1;
         let mut positions = Vec::with_capacity(s_values.len() * columns);
         let mut params = Vec::with_capacity(positions.capacity());
-        let fast = Surface::of(part);
+        // Each section's curve at the columns' angles, once; a grid point
+        // is their sum weighted by the sections' weights at its row.
+        let weights = SectionWeights::of(part);
+        let rings: Vec<Vec<Point3>> = match weights {
+            Some(_) => part.curves().iter().map(|c| c.sample(around)).collect(),
+            None => Vec::new(),
+        };
         for &s in &s_values {
+            let at = weights.as_ref().map(|w| w.at_with_derivative(s));
             for j in 0..columns {
                 let v = std::f64::consts::TAU * j as Real / around as Real;
-                positions.push(match &fast {
-                    Some(f) => f.eval(s, v)[0],
+                positions.push(match at {
+                    Some((w, count)) => w[..count]
+                        .iter()
+                        .fold(Vec3::ZERO, |acc, &(m, w, _)| acc + rings[m][j % around] * w),
                     None => part.point(s, v),
                 });
                 params.push([s, v]);
@@ -286,7 +295,7 @@ fn foot_at(surface: &Surface<'_>, (s, v): (Real, Real), e: [Vec3; 3], p: Point3)
 /// own (the model → input half of the distance: a mitten's skin across
 /// the gaps between the fingers, a fold beside a junction): the input's
 /// points and which of them may hold this part.
-pub struct Coverage<'a> {
+pub(crate) struct Coverage<'a> {
     pub grid: &'a PointGrid<'a>,
     /// Whether the input point of this index may hold the part (one
     /// labelled to another part does not: the torso's skin inside an arm).

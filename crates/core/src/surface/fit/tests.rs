@@ -84,6 +84,16 @@ fn the_fast_surface_is_the_part() {
 }
 
 #[test]
+fn the_grid_lies_on_the_part() {
+    let part = lumpy_part();
+    let grid = PartGrid::new(&part, 37, 3);
+    assert_eq!(grid.params.len(), grid.mesh.positions.len());
+    for (&[s, v], &p) in grid.params.iter().zip(&grid.mesh.positions) {
+        assert!(p.distance(part.point(s, v)) < 1e-12, "s {s} v {v}");
+    }
+}
+
+#[test]
 fn projection_finds_the_foot() {
     let part = lumpy_part();
     let grid = PartGrid::new(&part, 64, 3);

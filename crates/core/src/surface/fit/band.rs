@@ -10,7 +10,8 @@ pub(super) struct Band {
     n: usize,
     bw: usize,
     a: Vec<Real>,
-    /// A consecutive row's values ([`Band::add_outer`]).
+    /// A consecutive row's values ([`Band::add_outer`]), copied out of its
+    /// (index, value) pairs so that the inner loop runs over plain numbers.
     dense: Vec<Real>,
 }
 

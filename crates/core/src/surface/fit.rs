@@ -20,9 +20,11 @@ use crate::geom::mesh::{Aabb, Mesh};
 use crate::spatial::distance::MeshDistance;
 use crate::spatial::point_grid::PointGrid;
 use band::Band;
+use moments::Moments;
 use split::split_where_far;
 
 mod band;
+mod moments;
 mod split;
 
 /// Options of [`fit_part`].
@@ -589,34 +591,35 @@ impl Layout {
     }
 }
 
-/// The row over the unknowns of a point's residual along its foot's
-/// normal (the sections weighing `weights` at the foot).
-fn data_row(
+/// A point's terms per section around its foot (the sections weighing
+/// `weights` there): `(m, n·e1 W_m, n·e2 W_m)` for its normal `n`.
+fn normal_terms(
     curves: &[TrigCurve],
+    weights: &[(usize, Real, Real)],
+    normal: Vec3,
+    terms: &mut Vec<(usize, Real, Real)>,
+) {
+    terms.clear();
+    terms.extend(weights.iter().map(|&(m, w, _)| {
+        let f = &curves[m].frame;
+        (m, normal.dot(f.e1) * w, normal.dot(f.e2) * w)
+    }));
+}
+
+/// The row over the unknowns of a point's residual along its normal: its
+/// `terms` over the bases `x` and `y` at its angle ([`basis`], to the
+/// highest order among the terms' sections).
+fn data_row(
     layout: &Layout,
-    weights: &[(usize, Real)],
-    foot: &Foot,
+    terms: &[(usize, Real, Real)],
+    (x, y): (&[Real], &[Real]),
     row: &mut Vec<(usize, Real)>,
 ) {
-    let (mut x, mut y) = (Vec::new(), Vec::new());
     row.clear();
-    for &(m, w) in weights {
-        let c = &curves[m];
-        basis(foot.v, (layout.len[m] - 1) / 2, &mut x, &mut y);
-        let (n1, n2) = (
-            foot.normal.dot(c.frame.e1) * w,
-            foot.normal.dot(c.frame.e2) * w,
-        );
-        row.extend(
-            x.iter()
-                .enumerate()
-                .map(|(i, bx)| (layout.at(m, false, i), bx * n1)),
-        );
-        row.extend(
-            y.iter()
-                .enumerate()
-                .map(|(i, by)| (layout.at(m, true, i), by * n2)),
-        );
+    for &(m, n1, n2) in terms {
+        let len = layout.len[m];
+        row.extend((0..len).map(|i| (layout.at(m, false, i), x[i] * n1)));
+        row.extend((0..len).map(|i| (layout.at(m, true, i), y[i] * n2)));
     }
 }
 
@@ -905,7 +908,8 @@ impl Round<'_> {
         let n = layout.unknowns();
         let mut band = Band::new(n, bandwidth(&sw, &layout.off, curves.len()));
         let mut rhs = vec![0.0; n];
-        let mut row = Vec::new();
+        let mut moments = Moments::new(&layout);
+        let (mut row, mut terms, mut x, mut y) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut total = 0.0;
         let mut add = |foot: &Foot, weight: Real| {
             let r = foot.signed;
@@ -915,10 +919,21 @@ impl Round<'_> {
                 self.huber / r.abs()
             };
             let w = weight * huber;
-            data_row(curves, &layout, &sw.at(foot.s), foot, &mut row);
-            band.add_outer(&row, w);
-            for &(k, x) in &row {
-                rhs[k] += w * x * r;
+            let (weights, count) = sw.at_with_derivative(foot.s);
+            normal_terms(curves, &weights[..count], foot.normal, &mut terms);
+            let order = terms.iter().map(|t| layout.len[t.0] / 2).max().unwrap_or(0);
+            basis(foot.v, order, &mut x, &mut y);
+            for &(m, n1, n2) in &terms {
+                let len = layout.len[m];
+                let (a, b) = (layout.at(m, false, 0), layout.at(m, true, 0));
+                for (i, (&xi, &yi)) in x[..len].iter().zip(&y[..len]).enumerate() {
+                    rhs[a + i] += w * r * n1 * xi;
+                    rhs[b + i] += w * r * n2 * yi;
+                }
+            }
+            if !moments.add(foot.v, &terms, w) {
+                data_row(&layout, &terms, (&x, &y), &mut row);
+                band.add_outer(&row, w);
             }
             w
         };
@@ -931,6 +946,7 @@ impl Round<'_> {
         for foot in self.samples {
             add(foot, sample_weight);
         }
+        moments.expand(&layout, &mut band);
         let per_section = total.max(1.0) / curves.len() as Real;
         // The curves the fit started from, in the current twist.
         let start: Vec<TrigCurve> = self

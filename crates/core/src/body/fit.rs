@@ -177,7 +177,10 @@ pub(super) fn fit_to_input(
         input_points(input.geometry, opts.mesh_samples),
         2 * opts.points_per_section * sections,
     );
-    let labels = label(&solids, &points, height, opts);
+    let chosen: Vec<usize> = (0..solids.len())
+        .filter(|&i| only.is_none_or(|o| owners[i] == o && i < parts.len()))
+        .collect();
+    let labels = label(&solids, &points, height, opts, &chosen);
     let surface = SurfaceFitOptions {
         min_cutoff: opts.min_cutoff * height,
         coverage_reach: LABEL_REACH * height,
@@ -187,9 +190,6 @@ pub(super) fn fit_to_input(
     };
     let positions: Vec<Point3> = points.iter().map(|(p, _)| *p).collect();
     let grid = PointGrid::new(&positions, 0.01 * height);
-    let chosen: Vec<usize> = (0..solids.len())
-        .filter(|&i| only.is_none_or(|o| owners[i] == o && i < parts.len()))
-        .collect();
     let fitted: Vec<(usize, Part, SurfaceFitStats)> = chosen
         .par_iter()
         .map(|&i| {
@@ -261,12 +261,15 @@ const LABEL_REACH: Real = 0.02;
 /// within the junction distance of (or inside) another part, or (a mesh's
 /// samples) on a surface turned more than 60° from the part's. A point
 /// past its part's end (its foot `at_end`) holds the part's surface
-/// ([`Coverage`]) but is not fitted: a cap's or a transition's.
+/// ([`Coverage`]) but is not fitted: a cap's or a transition's. Only
+/// points that may take part in fitting `chosen` (within twice the reach
+/// of one's box) are labelled; the others are `None`.
 fn label(
     solids: &[&Part],
     points: &[(Point3, Option<Point3>)],
     height: Real,
     opts: &GlobalFitOptions,
+    chosen: &[usize],
 ) -> Vec<Option<(usize, Foot)>> {
     let grids: Vec<PartGrid> = solids.par_iter().map(|p| PartGrid::for_part(p)).collect();
     let surfaces: Vec<Option<Surface<'_>>> = solids.iter().map(|p| Surface::of(p)).collect();
@@ -282,20 +285,26 @@ fn label(
             })
         })
         .collect();
+    // Within `pad` of part `i`'s box.
+    let in_box = |i: usize, p: Point3, pad: Real| {
+        boxes[i].is_some_and(|(lo, hi)| {
+            let (lo, hi) = (
+                lo - Point3::new(pad, pad, pad),
+                hi + Point3::new(pad, pad, pad),
+            );
+            p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z
+        })
+    };
     points
         .par_iter()
         .map(|&(p, normal)| {
+            // Twice the reach: the fit moves the part (by millimetres).
+            let near_chosen = chosen.iter().any(|&i| in_box(i, p, reach));
+            if !near_chosen {
+                return None;
+            }
             let feet: Vec<(usize, Foot)> = (0..solids.len())
-                .filter(|&i| {
-                    boxes[i].is_some_and(|(lo, hi)| {
-                        p.x >= lo.x
-                            && p.y >= lo.y
-                            && p.z >= lo.z
-                            && p.x <= hi.x
-                            && p.y <= hi.y
-                            && p.z <= hi.z
-                    })
-                })
+                .filter(|&i| in_box(i, p, 0.0))
                 .filter_map(|i| Some((i, project(surfaces[i].as_ref()?, &grids[i], &trees[i], p)?)))
                 .collect();
             let &(best, foot) = feet

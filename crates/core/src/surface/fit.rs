@@ -262,7 +262,9 @@ pub fn project(
             break;
         }
         (s, v, e) = (ns, nv, ne);
-        if ds * ds * m11 + dv * dv * m22 <= 1e-20 * d.norm_squared() {
+        // Converged: the step moved the foot by under 1e-6 of the part's
+        // length (the next would move it by far less).
+        if ds * ds * m11 + dv * dv * m22 <= (1e-6 * length).powi(2) {
             break;
         }
     }

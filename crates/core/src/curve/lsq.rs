@@ -18,7 +18,7 @@
 //! discrete Fourier transform: [`fit_equally_spaced`] computes them directly.
 
 use crate::curve::trig::standard_to_paper_b;
-use crate::geom::linalg::Cholesky;
+use crate::geom::linalg::{dot, Cholesky};
 use crate::geom::math::{Real, Vec2};
 use crate::geom::tolerance::GEOMETRIC_EPS;
 use std::f64::consts::TAU;
@@ -89,22 +89,6 @@ pub struct LoopFitter<'a> {
     z_y: Vec<Real>,
     /// 1 / |p_i − centroid|, with the distance floored away from zero.
     inv_dbar: Vec<Real>,
-}
-
-/// `Σ a_i b_i` with four partial sums (a fixed order, so results are
-/// reproducible, and independent lanes, so it vectorizes).
-#[inline]
-fn dot(a: &[Real], b: &[Real]) -> Real {
-    let mut acc = [0.0; 4];
-    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let (ra, rb) = (ca.remainder(), cb.remainder());
-    for (x, y) in ca.zip(cb) {
-        for k in 0..4 {
-            acc[k] += x[k] * y[k];
-        }
-    }
-    let tail: Real = ra.iter().zip(rb).map(|(x, y)| x * y).sum();
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
 impl<'a> LoopFitter<'a> {

@@ -4,6 +4,23 @@
 
 use crate::geom::math::{Point2, Point3, Real, Vec2, Vec3};
 
+/// `Σ a_i b_i` over two equal slices, with four partial sums (a fixed
+/// order, so results are reproducible, and independent lanes, so it
+/// vectorizes; one running sum does not).
+#[inline]
+pub fn dot(a: &[Real], b: &[Real]) -> Real {
+    let mut acc = [0.0; 4];
+    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..4 {
+            acc[k] += x[k] * y[k];
+        }
+    }
+    let tail: Real = ra.iter().zip(rb).map(|(x, y)| x * y).sum();
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
+}
+
 /// A lower-triangular Cholesky factor `L` of a symmetric positive definite
 /// matrix `A = L Lᵀ`, stored row-major `n × n`.
 ///

@@ -544,23 +544,6 @@ impl SectionWeights {
     }
 }
 
-/// `x`'s basis at `v` for coefficient `c` (1, cos jv, sin jv, …) and
-/// `y`'s (1, sin jv, cos jv, …): the paper's layout.
-fn basis(v: Real, order: usize, x: &mut Vec<Real>, y: &mut Vec<Real>) {
-    x.clear();
-    y.clear();
-    x.push(1.0);
-    y.push(1.0);
-    // cos jv and sin jv by the angle-sum recurrence from one sin_cos.
-    let (s1, c1) = v.sin_cos();
-    let (mut cos, mut sin) = (1.0, 0.0);
-    for _ in 1..=order {
-        (cos, sin) = (cos * c1 - sin * s1, sin * c1 + cos * s1);
-        x.extend([cos, sin]);
-        y.extend([sin, cos]);
-    }
-}
-
 /// The unknowns: each curve's first `len[m]` coefficients of `a`, then
 /// as many of `b`, curve after curve (harmonics up to the fit's order; a
 /// curve's higher ones are kept as they are).
@@ -609,19 +592,20 @@ fn normal_terms(
 }
 
 /// The row over the unknowns of a point's residual along its normal: its
-/// `terms` over the bases `x` and `y` at its angle ([`basis`], to the
-/// highest order among the terms' sections).
+/// `terms` over the bases at its angle (`basis(i, false)` the `a`
+/// coefficients' `1, cos v, sin v, …`, `basis(i, true)` the `b`
+/// coefficients' `1, sin v, cos v, …`).
 fn data_row(
     layout: &Layout,
     terms: &[(usize, Real, Real)],
-    (x, y): (&[Real], &[Real]),
+    basis: impl Fn(usize, bool) -> Real,
     row: &mut Vec<(usize, Real)>,
 ) {
     row.clear();
     for &(m, n1, n2) in terms {
         let len = layout.len[m];
-        row.extend((0..len).map(|i| (layout.at(m, false, i), x[i] * n1)));
-        row.extend((0..len).map(|i| (layout.at(m, true, i), y[i] * n2)));
+        row.extend((0..len).map(|i| (layout.at(m, false, i), basis(i, false) * n1)));
+        row.extend((0..len).map(|i| (layout.at(m, true, i), basis(i, true) * n2)));
     }
 }
 
@@ -911,7 +895,7 @@ impl Round<'_> {
         let mut band = Band::new(n, bandwidth(&sw, &layout.off, curves.len()));
         let mut rhs = vec![0.0; n];
         let mut moments = Moments::new(&layout);
-        let (mut row, mut terms, mut x, mut y) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let (mut row, mut terms) = (Vec::new(), Vec::new());
         let mut total = 0.0;
         let mut add = |foot: &Foot, weight: Real| {
             let r = foot.signed;
@@ -923,18 +907,16 @@ impl Round<'_> {
             let w = weight * huber;
             let (weights, count) = sw.at_with_derivative(foot.s);
             normal_terms(curves, &weights[..count], foot.normal, &mut terms);
-            let order = terms.iter().map(|t| layout.len[t.0] / 2).max().unwrap_or(0);
-            basis(foot.v, order, &mut x, &mut y);
+            moments.at_angle(foot.v);
             for &(m, n1, n2) in &terms {
-                let len = layout.len[m];
                 let (a, b) = (layout.at(m, false, 0), layout.at(m, true, 0));
-                for (i, (&xi, &yi)) in x[..len].iter().zip(&y[..len]).enumerate() {
-                    rhs[a + i] += w * r * n1 * xi;
-                    rhs[b + i] += w * r * n2 * yi;
+                for i in 0..layout.len[m] {
+                    rhs[a + i] += w * r * n1 * moments.basis(i, false);
+                    rhs[b + i] += w * r * n2 * moments.basis(i, true);
                 }
             }
-            if !moments.add(foot.v, &terms, w) {
-                data_row(&layout, &terms, (&x, &y), &mut row);
+            if !moments.add(&terms, w) {
+                data_row(&layout, &terms, |i, b| moments.basis(i, b), &mut row);
                 band.add_outer(&row, w);
             }
             w

@@ -2,6 +2,7 @@
 //! band matrix (a point touches the four sections around its foot, the
 //! smoothness three), factored by Cholesky with no fill outside the band.
 
+use crate::geom::linalg::dot;
 use crate::geom::math::Real;
 
 /// A symmetric positive definite band matrix, its lower band stored by
@@ -104,24 +105,4 @@ impl Band {
         }
         Some(b)
     }
-}
-
-/// `Σ aᵢ bᵢ` over two equal runs, in four interleaved sums (which the
-/// compiler can keep in vector lanes; one running sum it cannot).
-#[inline]
-fn dot(a: &[Real], b: &[Real]) -> Real {
-    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: Real = ca
-        .remainder()
-        .iter()
-        .zip(cb.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    let mut acc = [0.0; 4];
-    for (x, y) in ca.zip(cb) {
-        for k in 0..4 {
-            acc[k] += x[k] * y[k];
-        }
-    }
-    (acc[0] + acc[2]) + (acc[1] + acc[3]) + tail
 }

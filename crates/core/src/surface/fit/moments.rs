@@ -9,6 +9,7 @@
 //! those are what each point adds, and the blocks are expanded once.
 
 use super::{Band, Layout};
+use crate::curve::series::harmonics;
 use crate::geom::math::Real;
 
 /// How far apart (in sections) two sections of one point's row may lie.
@@ -25,15 +26,18 @@ fn harmonic(i: usize, swapped: bool) -> (bool, usize) {
     }
 }
 
-/// Sums over points of `c · h(f v)` for every harmonic `h(f v)` up to
-/// frequency `2J`, one vector per pair of sections and pair of bases.
+/// Sums over points of `c · cos fv` and `c · sin fv` for every frequency
+/// up to `2J`, one pair of vectors per pair of sections and pair of
+/// bases; and the harmonics of the angle of the points being added.
 pub(super) struct Moments {
     sections: usize,
-    /// `4J + 1`: 1, then cos fv and sin fv for f = 1 ..= 2J.
+    /// `2J + 1`: the frequencies 0 ..= 2J.
     width: usize,
+    /// Per slot, the cosine sums then the sine sums.
     sums: Vec<Real>,
     touched: Vec<bool>,
-    harmonics: Vec<Real>,
+    cos: Vec<Real>,
+    sin: Vec<Real>,
 }
 
 /// The pairs of bases a block sums, row section's first: `a·a`, `a·b`,
@@ -45,34 +49,41 @@ impl Moments {
     pub(super) fn new(layout: &Layout) -> Moments {
         let order = layout.len.iter().map(|l| (l - 1) / 2).max().unwrap_or(0);
         let sections = layout.len.len();
-        let width = 4 * order + 1;
+        let width = 2 * order + 1;
         let slots = sections * (REACH + 1) * PAIRS.len();
         Moments {
             sections,
             width,
-            sums: vec![0.0; slots * width],
+            sums: vec![0.0; 2 * slots * width],
             touched: vec![false; sections * (REACH + 1)],
-            harmonics: vec![0.0; width],
+            cos: vec![0.0; width],
+            sin: vec![0.0; width],
         }
     }
 
-    /// Adds `w · r rᵀ` for the row of a point at angle `v` whose sections
-    /// are `terms`: `(m, n1_m, n2_m)` in section order. `false` (nothing
-    /// added) when they lie farther apart than the sums reach.
-    pub(super) fn add(&mut self, v: Real, terms: &[(usize, Real, Real)], w: Real) -> bool {
+    /// Sets the angle `v` of the points added next.
+    pub(super) fn at_angle(&mut self, v: Real) {
+        harmonics(v, self.width - 1, &mut self.cos, &mut self.sin);
+    }
+
+    /// Basis function `i` of `x` (`y` when `swapped`) at the angle set.
+    #[inline]
+    pub(super) fn basis(&self, i: usize, swapped: bool) -> Real {
+        match harmonic(i, swapped) {
+            (true, f) => self.sin[f],
+            (false, f) => self.cos[f],
+        }
+    }
+
+    /// Adds `w · r rᵀ` for the row of a point at the angle set whose
+    /// sections are `terms`: `(m, n1_m, n2_m)` in section order. `false`
+    /// (nothing added) when they lie farther apart than the sums reach.
+    pub(super) fn add(&mut self, terms: &[(usize, Real, Real)], w: Real) -> bool {
         let (Some(first), Some(last)) = (terms.first(), terms.last()) else {
             return true;
         };
         if last.0 - first.0 > REACH || last.0 >= self.sections {
             return false;
-        }
-        let (s1, c1) = v.sin_cos();
-        let (mut cos, mut sin) = (1.0, 0.0);
-        self.harmonics[0] = 1.0;
-        for f in 1..=(self.width - 1) / 2 {
-            (cos, sin) = (cos * c1 - sin * s1, sin * c1 + cos * s1);
-            self.harmonics[2 * f - 1] = cos;
-            self.harmonics[2 * f] = sin;
         }
         let width = self.width;
         for (q, &(l, n1l, n2l)) in terms.iter().enumerate() {
@@ -85,8 +96,12 @@ impl Moments {
                         continue;
                     }
                     let c = w * if row_b { n2l } else { n1l } * if col_b { n2k } else { n1k };
-                    let at = (block * PAIRS.len() + p) * width;
-                    for (s, &h) in self.sums[at..at + width].iter_mut().zip(&self.harmonics) {
+                    let at = 2 * (block * PAIRS.len() + p) * width;
+                    let (cs, ss) = self.sums[at..at + 2 * width].split_at_mut(width);
+                    for (s, &h) in cs.iter_mut().zip(&self.cos) {
+                        *s += c * h;
+                    }
+                    for (s, &h) in ss.iter_mut().zip(&self.sin) {
                         *s += c * h;
                     }
                 }
@@ -107,8 +122,8 @@ impl Moments {
                     if d == 0 && !row_b && col_b {
                         continue;
                     }
-                    let at = ((k * (REACH + 1) + d) * PAIRS.len() + p) * self.width;
-                    let sums = &self.sums[at..at + self.width];
+                    let at = 2 * ((k * (REACH + 1) + d) * PAIRS.len() + p) * self.width;
+                    let sums = self.sums[at..at + 2 * self.width].split_at(self.width);
                     let lower = d == 0 && row_b == col_b;
                     for i in 0..layout.len[l] {
                         let hi = if lower { i + 1 } else { layout.len[k] };
@@ -124,18 +139,17 @@ impl Moments {
     }
 }
 
-/// The sum of `h1 · h2` over the points from their sums of harmonics
-/// (`(sine?, frequency)` each).
+/// The sum of `h1 · h2` over the points from their sums of cosines and
+/// sines (`(sine?, frequency)` each).
 #[inline]
-fn product(sums: &[Real], (s1, f1): (bool, usize), (s2, f2): (bool, usize)) -> Real {
-    let cos = |f: usize| sums[if f == 0 { 0 } else { 2 * f - 1 }];
+fn product(
+    (cos, sin): (&[Real], &[Real]),
+    (s1, f1): (bool, usize),
+    (s2, f2): (bool, usize),
+) -> Real {
     // sin of a signed frequency.
-    let sin = |f: isize| {
-        let s = if f == 0 {
-            0.0
-        } else {
-            sums[2 * f.unsigned_abs()]
-        };
+    let sin_at = |f: isize| {
+        let s = sin[f.unsigned_abs()];
         if f < 0 {
             -s
         } else {
@@ -145,17 +159,30 @@ fn product(sums: &[Real], (s1, f1): (bool, usize), (s2, f2): (bool, usize)) -> R
     let diff = f1 as isize - f2 as isize;
     let (plus, minus) = (f1 + f2, f1.abs_diff(f2));
     0.5 * match (s1, s2) {
-        (false, false) => cos(minus) + cos(plus),
-        (true, true) => cos(minus) - cos(plus),
-        (true, false) => sin(plus as isize) + sin(diff),
-        (false, true) => sin(plus as isize) - sin(diff),
+        (false, false) => cos[minus] + cos[plus],
+        (true, true) => cos[minus] - cos[plus],
+        (true, false) => sin_at(plus as isize) + sin_at(diff),
+        (false, true) => sin_at(plus as isize) - sin_at(diff),
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::basis;
     use super::*;
+
+    /// `x`'s basis (1, cos jv, sin jv, …) and `y`'s (1, sin jv, cos jv, …)
+    /// at `v`, each harmonic computed on its own.
+    fn basis(v: Real, order: usize, x: &mut Vec<Real>, y: &mut Vec<Real>) {
+        x.clear();
+        y.clear();
+        x.push(1.0);
+        y.push(1.0);
+        for j in 1..=order {
+            let (s, c) = (j as Real * v).sin_cos();
+            x.extend([c, s]);
+            y.extend([s, c]);
+        }
+    }
 
     /// The outer products summed as moments equal the rows' outer
     /// products added one by one, for sections of unequal orders.
@@ -193,7 +220,8 @@ mod tests {
                 );
             }
             direct.add_outer(&row, w);
-            assert!(moments.add(v, &terms, w));
+            moments.at_angle(v);
+            assert!(moments.add(&terms, w));
         }
         moments.expand(&layout, &mut summed);
         let mut worst: Real = 0.0;
@@ -214,7 +242,8 @@ mod tests {
             len: vec![3; 5],
         };
         let mut moments = Moments::new(&layout);
-        assert!(!moments.add(0.3, &[(0, 1.0, 0.0), (4, 1.0, 0.0)], 1.0));
-        assert!(moments.add(0.3, &[(1, 1.0, 0.0), (4, 1.0, 0.0)], 1.0));
+        moments.at_angle(0.3);
+        assert!(!moments.add(&[(0, 1.0, 0.0), (4, 1.0, 0.0)], 1.0));
+        assert!(moments.add(&[(1, 1.0, 0.0), (4, 1.0, 0.0)], 1.0));
     }
 }
